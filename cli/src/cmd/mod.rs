@@ -1,0 +1,10 @@
+//! One module per subcommand.
+
+pub mod bench;
+pub mod check;
+pub mod compile;
+pub mod eval;
+pub mod fmt;
+pub mod lsp;
+pub mod map;
+pub mod suite;

@@ -1,0 +1,64 @@
+//! `m2rc`: a thin shell over the m2rc crates. Every subcommand parses its flags, does the file and
+//! terminal I/O, and calls into a library crate; no compiler or planner logic lives here.
+
+mod cmd;
+mod io;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "m2rc",
+    version,
+    about = "Compile route instructions, written in the .m2r route language, into routes over semantic maps; score routes on the Map2Route benchmark.",
+    propagate_version = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Import, inspect and render semantic maps.
+    #[command(subcommand)]
+    Map(cmd::map::MapCommand),
+    /// Check a .m2r program: parse, resolve names, type-check and scope-check it.
+    Check(cmd::check::CheckArgs),
+    /// Format a .m2r program in the canonical style.
+    Fmt(cmd::fmt::FmtArgs),
+    /// Compile a .m2r program against a map into a grounded route.
+    Compile(cmd::compile::CompileArgs),
+    /// Score a route against a Map2Route episode, exactly as the reference evaluator does.
+    Eval(cmd::eval::EvalArgs),
+    /// Build and inspect benchmark suites of episodes from real houses.
+    #[command(subcommand)]
+    Suite(cmd::suite::SuiteCommand),
+    /// Run methods over a suite, merge shards, and report tables.
+    #[command(subcommand)]
+    Bench(cmd::bench::BenchCommand),
+    /// Run the .m2r language server over stdio.
+    Lsp(cmd::lsp::LspArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Map(c) => cmd::map::run(c),
+        Command::Check(a) => cmd::check::run(a),
+        Command::Fmt(a) => cmd::fmt::run(a),
+        Command::Compile(a) => cmd::compile::run(a),
+        Command::Eval(a) => cmd::eval::run(a),
+        Command::Suite(c) => cmd::suite::run(c),
+        Command::Bench(c) => cmd::bench::run(c),
+        Command::Lsp(a) => cmd::lsp::run(a),
+    };
+    match result {
+        Ok(code) => code,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,119 @@
+//! The `.m2r` type language and the table of built-ins with their typed signatures.
+//!
+//! [`table::BUILTINS`] is the single source for the type checker, the generated language reference,
+//! hover text and the LLM prompt.
+
+pub mod signature;
+pub mod table;
+pub mod types;
+
+pub use signature::{
+    Builtin, Constant, DefaultValue, Direction, EnumWord, Metric, Param, Receiver, Requirement, Ty,
+};
+pub use table::{BUILTINS, CONSTANTS, ENUM_WORDS};
+pub use types::{Elem, Scalar, Type};
+
+/// Every row with this name called as a free function.
+pub fn functions(name: &str) -> impl Iterator<Item = &'static Builtin> + '_ {
+    BUILTINS.iter().filter(move |b| b.name == name && !b.is_method())
+}
+
+/// Every row with this name called as a method, whatever the receiver.
+pub fn methods(name: &str) -> impl Iterator<Item = &'static Builtin> + '_ {
+    BUILTINS.iter().filter(move |b| b.name == name && b.is_method())
+}
+
+/// The method overload whose receiver accepts `recv`, with `T` bound.
+pub fn method_for(name: &str, recv: Type) -> Option<(&'static Builtin, Elem)> {
+    methods(name).find_map(|b| b.bind_receiver(recv).map(|t| (b, t)))
+}
+
+pub fn constant(name: &str) -> Option<&'static Constant> {
+    CONSTANTS.iter().find(|c| c.name == name)
+}
+
+pub fn enum_word(name: &str) -> Option<&'static EnumWord> {
+    ENUM_WORDS.iter().find(|w| w.name == name)
+}
+
+/// Distinct names of free functions, methods, constants and enumeration words, for did-you-mean.
+pub fn all_names() -> Vec<&'static str> {
+    let mut v: Vec<&'static str> = BUILTINS.iter().map(|b| b.name).collect();
+    v.extend(CONSTANTS.iter().map(|c| c.name));
+    v.extend(ENUM_WORDS.iter().map(|w| w.name));
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+/// The language reference section for the built-ins, as Markdown; generated so that it cannot
+/// drift from the table.
+pub fn reference_markdown() -> String {
+    let mut out = String::new();
+    out.push_str("| Signature | Description | Example |\n|---|---|---|\n");
+    for b in BUILTINS {
+        out.push_str(&format!(
+            "| `{}` | {} | `{}` |\n",
+            b.signature(None).replace('|', "\\|"),
+            b.doc.replace('|', "\\|"),
+            b.example.replace('|', "\\|")
+        ));
+    }
+    out.push_str("\n| Constant | Type | Description |\n|---|---|---|\n");
+    for c in CONSTANTS {
+        out.push_str(&format!("| `{}` | `{}` | {} |\n", c.name, c.ty, c.doc));
+    }
+    out.push_str("\n| Word | Type | Description |\n|---|---|---|\n");
+    for w in ENUM_WORDS {
+        out.push_str(&format!("| `{}` | `{}` | {} |\n", w.name, w.ty, w.doc));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overloads_are_picked_by_receiver() {
+        let (b, t) = method_for("near", Type::Set(Elem::Object)).unwrap();
+        assert_eq!(b.ret.instantiate(t), Some(Type::Set(Elem::Object)));
+        let (b, _) = method_for("near", Type::Object).unwrap();
+        assert_eq!(b.ret, Ty::Is(Type::Bool));
+        assert_eq!(functions("near").next().unwrap().ret, Ty::Is(Type::Preference));
+        assert!(method_for("nearest", Type::Object).is_none());
+        let (b, t) = method_for("nearest", Type::Set(Elem::Room)).unwrap();
+        assert_eq!(b.ret.instantiate(t), Some(Type::Room));
+        assert!(method_for("largest", Type::Set(Elem::Object)).is_none());
+    }
+
+    #[test]
+    fn signatures_render_with_defaults_and_bound_t() {
+        let b = methods("nearest").next().unwrap();
+        assert_eq!(
+            b.signature(Some(Elem::Object)),
+            "Set<Object>.nearest(to: Place = here, by: Metric = straight) -> Object"
+        );
+        let o = functions("objects").next().unwrap();
+        assert_eq!(o.signature(None), "objects(category: Category?) -> Set<Object>");
+    }
+
+    #[test]
+    fn table_is_consistent() {
+        let mut seen = std::collections::HashSet::new();
+        for b in BUILTINS {
+            let key = (b.name, format!("{:?}", b.receiver));
+            assert!(seen.insert(key), "duplicate row {}", b.name);
+            assert!(!b.doc.is_empty() && b.doc.ends_with('.'), "doc of {}", b.name);
+            assert!(!b.example.is_empty());
+            // Required parameters come before optional ones, so positional calls stay unambiguous.
+            let first_opt = b.params.iter().position(|p| p.req != Requirement::Required);
+            if let Some(i) = first_opt {
+                assert!(b.params[i..].iter().all(|p| p.req != Requirement::Required), "{}", b.name);
+            }
+        }
+        for c in CONSTANTS {
+            assert!(functions(c.name).next().is_none());
+        }
+    }
+}

@@ -1,0 +1,293 @@
+//! The table of `.m2r` built-ins: the single source for the type checker, the language reference,
+//! hover text and the LLM prompt. Add a built-in here and every consumer sees it; never list
+//! built-ins anywhere else by hand.
+//!
+//! Several rows may share a name when their receivers differ (`Set<Object>.near(x)` filters,
+//! `Object.near(x)` is a predicate, the free `near(x)` is a preference); the checker picks the row
+//! whose receiver accepts the actual receiver type.
+
+use super::signature::{
+    Builtin, Constant, DefaultValue, Direction, EnumWord, Metric, Param, Receiver, Requirement, Ty,
+};
+use super::types::{Elem, Type};
+
+use Requirement::{Default, Optional, Required};
+
+const CATEGORY: &[Ty] = &[Ty::Is(Type::Category)];
+const PLACE: &[Ty] = &[Ty::PLACE];
+const ROOM: &[Ty] = &[Ty::ROOM];
+const PLACES: &[Ty] = &[Ty::PLACE, Ty::SET_PLACE];
+const ROOMS: &[Ty] = &[Ty::ROOM, Ty::SET_ROOM];
+const OBJECTS: &[Ty] = &[Ty::OBJECT, Ty::SET_OBJECT];
+const DISTANCE: &[Ty] = &[Ty::Is(Type::Distance)];
+const DIRECTION: &[Ty] = &[Ty::Is(Type::Direction)];
+const METRIC: &[Ty] = &[Ty::Is(Type::Metric)];
+const INT: &[Ty] = &[Ty::Is(Type::Int)];
+
+const SET_T: &[Ty] = &[Ty::SetT];
+const SET_OBJECT: &[Ty] = &[Ty::SET_OBJECT];
+const SET_ROOM: &[Ty] = &[Ty::SET_ROOM];
+const SINGLE_OBJECT: &[Ty] = &[Ty::OBJECT];
+const SINGLE_ROOM: &[Ty] = &[Ty::ROOM];
+const SINGLE_PLACE: &[Ty] = &[Ty::PLACE];
+const ROOM_OR_ROOMS: &[Ty] = &[Ty::ROOM, Ty::SET_ROOM];
+
+const HERE: Requirement = Default(DefaultValue::Here);
+const STRAIGHT: Requirement = Default(DefaultValue::Metric(Metric::Straight));
+const CCW: Requirement = Default(DefaultValue::Direction(Direction::Counterclockwise));
+
+const fn p(name: &'static str, ty: &'static [Ty], req: Requirement) -> Param {
+    Param { name, ty, req }
+}
+
+const RANK_PARAMS: &[Param] = &[p("to", PLACE, HERE), p("by", METRIC, STRAIGHT)];
+const KTH_PARAMS: &[Param] =
+    &[p("k", INT, Required), p("to", PLACE, HERE), p("by", METRIC, STRAIGHT)];
+const X_OBJECTS: &[Param] = &[p("x", PLACES, Required)];
+const NEAR_PARAMS: &[Param] =
+    &[p("x", PLACES, Required), p("within", DISTANCE, Default(DefaultValue::Distance(1.5)))];
+const BETWEEN_PARAMS: &[Param] = &[p("a", PLACES, Required), p("b", PLACES, Required)];
+const PRED: &[Param] = &[p("pred", &[Ty::PredT], Required)];
+const KEY: &[Param] = &[p("key", &[Ty::KeyT], Required)];
+const NONE: &[Param] = &[];
+
+const fn free(
+    name: &'static str,
+    params: &'static [Param],
+    ret: Ty,
+    doc: &'static str,
+    example: &'static str,
+) -> Builtin {
+    Builtin { name, receiver: Receiver::Free, params, ret, doc, example }
+}
+
+const fn method(
+    recv: &'static [Ty],
+    name: &'static str,
+    params: &'static [Param],
+    ret: Ty,
+    doc: &'static str,
+    example: &'static str,
+) -> Builtin {
+    Builtin { name, receiver: Receiver::Method(recv), params, ret, doc, example }
+}
+
+const BOOL: Ty = Ty::Is(Type::Bool);
+const PREF: Ty = Ty::Is(Type::Preference);
+const REGION: Ty = Ty::Is(Type::Region);
+const SET_REGION: Ty = Ty::Is(Type::Set(Elem::Region));
+
+/// Every built-in function and method, grouped as the language reference shows them.
+pub static BUILTINS: &[Builtin] = &[
+    // --- Queries -------------------------------------------------------------------------------
+    free("objects", &[p("category", CATEGORY, Optional)], Ty::SET_OBJECT,
+        "All objects of a category (or of a union `a | b`); every object when left out.",
+        "objects(chair | sofa)"),
+    free("rooms", &[p("category", CATEGORY, Optional)], Ty::SET_ROOM,
+        "All rooms of a room category; every room when left out.",
+        "rooms(bathroom)"),
+    // --- Filters on sets -----------------------------------------------------------------------
+    method(SET_T, "in", &[p("room", ROOM_OR_ROOMS, Required)], Ty::SetT,
+        "Keeps the elements that lie in the room (or in any of the rooms).",
+        "objects(sink).in(kitchen_room)"),
+    method(SET_T, "near", NEAR_PARAMS, Ty::SetT,
+        "Keeps the elements within `within` of `x` (of any element of `x`).",
+        "objects(chair).near(objects(cup), within: 1m)"),
+    method(SET_T, "except", &[p("x", &[Ty::T, Ty::SetT], Required)], Ty::SetT,
+        "Removes the given element(s).",
+        "rooms(bedroom).except(start.room())"),
+    method(SET_T, "where", PRED, Ty::SetT,
+        "Keeps the elements for which the predicate is true.",
+        "rooms().where(r => objects(stool).in(r).count() == 2)"),
+    method(SET_T, "sorted_by", KEY, Ty::SetT,
+        "The same elements ordered by ascending key.",
+        "rooms(bedroom).sorted_by(r => r.area())"),
+    method(SET_OBJECT, "on", X_OBJECTS, Ty::SET_OBJECT,
+        "Keeps the objects standing on `x` (on any of `x`).",
+        "objects(bowl).on(table)"),
+    method(SET_OBJECT, "inside", X_OBJECTS, Ty::SET_OBJECT,
+        "Keeps the objects inside `x` (a fridge, a cabinet, ...).",
+        "objects(egg).inside(objects(fridge))"),
+    method(SET_OBJECT, "under", X_OBJECTS, Ty::SET_OBJECT,
+        "Keeps the objects underneath `x`.",
+        "objects(basket_ball).under(objects(dresser))"),
+    method(SET_OBJECT, "next_to", X_OBJECTS, Ty::SET_OBJECT,
+        "Keeps the objects directly beside `x` (touching or almost).",
+        "objects(window).next_to(objects(fridge))"),
+    method(SET_OBJECT, "between", BETWEEN_PARAMS, Ty::SET_OBJECT,
+        "Keeps the objects lying between `a` and `b`.",
+        "objects(plunger).between(sink, toilet)"),
+    method(SET_OBJECT, "holding", X_OBJECTS, Ty::SET_OBJECT,
+        "Keeps the objects that have `x` (any of `x`) on or inside them.",
+        "objects(desk).holding(objects(laptop))"),
+    method(SET_ROOM, "containing", &[p("x", OBJECTS, Required)], Ty::SET_ROOM,
+        "Keeps the rooms that contain `x` (any of `x`).",
+        "rooms(bedroom).containing(objects(dog_bed))"),
+    method(SET_ROOM, "adjacent_to", &[p("room", ROOM_OR_ROOMS, Required)], Ty::SET_ROOM,
+        "Keeps the rooms that share a doorway with the room (with any of the rooms).",
+        "rooms(bedroom).adjacent_to(start.room())"),
+    // --- Predicates ----------------------------------------------------------------------------
+    method(SINGLE_OBJECT, "in", &[p("room", ROOM_OR_ROOMS, Required)], BOOL,
+        "Whether the object lies in the room (in any of the rooms).",
+        "o => o.in(kitchen)"),
+    method(SINGLE_OBJECT, "near", NEAR_PARAMS, BOOL,
+        "Whether the object is within `within` of `x`.",
+        "o => o.near(objects(cup))"),
+    method(SINGLE_OBJECT, "on", X_OBJECTS, BOOL,
+        "Whether the object stands on `x`.",
+        "o => o.on(objects(dresser))"),
+    method(SINGLE_OBJECT, "inside", X_OBJECTS, BOOL,
+        "Whether the object is inside `x`.",
+        "o => o.inside(objects(fridge))"),
+    method(SINGLE_OBJECT, "under", X_OBJECTS, BOOL,
+        "Whether the object is underneath `x`.",
+        "b => not b.under(objects(dining_table))"),
+    method(SINGLE_OBJECT, "next_to", X_OBJECTS, BOOL,
+        "Whether the object is directly beside `x`.",
+        "w => w.next_to(objects(fridge))"),
+    method(SINGLE_OBJECT, "between", BETWEEN_PARAMS, BOOL,
+        "Whether the object lies between `a` and `b`.",
+        "w => w.between(objects(bed), objects(tv_stand))"),
+    method(SINGLE_OBJECT, "holding", X_OBJECTS, BOOL,
+        "Whether `x` (any of `x`) is on or inside the object.",
+        "t => t.holding(objects(teddy_bear))"),
+    method(SINGLE_ROOM, "contains", &[p("x", OBJECTS, Required)], BOOL,
+        "Whether the room contains `x` (any of `x`).",
+        "r => r.contains(objects(desk))"),
+    method(SINGLE_ROOM, "adjacent_to", &[p("room", ROOM_OR_ROOMS, Required)], BOOL,
+        "Whether the room shares a doorway with the room (with any of the rooms).",
+        "r => r.adjacent_to(start.room())"),
+    method(SINGLE_ROOM, "only_reachable_through", &[p("rooms", ROOM_OR_ROOMS, Required)], BOOL,
+        "Whether every path from the start into the room passes through one of the rooms.",
+        "r => r.only_reachable_through(rooms(living_room))"),
+    method(SET_T, "exists", NONE, BOOL,
+        "Whether the set has at least one element.",
+        "objects(cup).near(c).exists()"),
+    method(SET_T, "is_empty", NONE, BOOL,
+        "Whether the set has no element.",
+        "objects().near(b).except(b).is_empty()"),
+    // --- Counts and measures -------------------------------------------------------------------
+    method(SET_T, "count", NONE, Ty::Is(Type::Int),
+        "The number of elements.",
+        "objects(box).in(r).count()"),
+    method(SINGLE_PLACE, "distance", &[p("to", PLACE, Required), p("by", METRIC, STRAIGHT)],
+        Ty::Is(Type::Distance),
+        "The distance between two places, straight-line or travel.",
+        "c => c.distance(doorway_entering(bath))"),
+    method(SINGLE_ROOM, "area", NONE, Ty::Is(Type::Number),
+        "The floor area in square metres.",
+        "r => r.area()"),
+    method(SINGLE_PLACE, "room", NONE, Ty::ROOM,
+        "The room the place lies in.",
+        "start.room()"),
+    // --- Rankings: Set<T> -> T -----------------------------------------------------------------
+    method(SET_T, "nearest", RANK_PARAMS, Ty::T,
+        "The element nearest to `to`.",
+        "objects(desk).nearest()"),
+    method(SET_T, "farthest", RANK_PARAMS, Ty::T,
+        "The element farthest from `to`.",
+        "objects(garbage_can).farthest(by: travel)"),
+    method(SET_T, "kth_nearest", KTH_PARAMS, Ty::T,
+        "The k-th nearest element to `to` (k = 1 is the nearest).",
+        "objects(box).kth_nearest(2, to: dresser)"),
+    method(SET_T, "kth_farthest", KTH_PARAMS, Ty::T,
+        "The k-th farthest element from `to` (k = 1 is the farthest).",
+        "objects(chair).kth_farthest(2)"),
+    method(SET_ROOM, "largest", NONE, Ty::ROOM,
+        "The room with the largest floor area.",
+        "rooms(bathroom).largest()"),
+    method(SET_ROOM, "smallest", NONE, Ty::ROOM,
+        "The room with the smallest floor area.",
+        "rooms(bathroom).smallest()"),
+    method(SET_T, "max_by", KEY, Ty::T,
+        "The element with the largest key.",
+        "rooms().max_by(r => objects(tennis_racket | pillow).in(r).count())"),
+    method(SET_T, "min_by", KEY, Ty::T,
+        "The element with the smallest key.",
+        "objects(chair).min_by(c => c.distance(center(objects(potato))))"),
+    method(SET_T, "only", NONE, Ty::T,
+        "The single element; grounding fails, listing the candidates, unless exactly one remains.",
+        "objects(bed).in(r).only()"),
+    // --- Places ---------------------------------------------------------------------------------
+    method(ROOM_OR_ROOMS, "corners", NONE, SET_REGION,
+        "The corners of the room (of all the rooms).",
+        "bath.corners()"),
+    method(ROOM_OR_ROOMS, "doorways", NONE, SET_REGION,
+        "The doorway passages of the room (of all the rooms).",
+        "kitchen_room.doorways()"),
+    method(SINGLE_ROOM, "adjacent", NONE, Ty::SET_ROOM,
+        "The rooms sharing a doorway with this room.",
+        "start.room().adjacent()"),
+    free("doorways_between", &[p("a", ROOM, Required), p("b", ROOM, Required)], SET_REGION,
+        "The doorway passages connecting two rooms.",
+        "doorways_between(kitchen_room, hall)"),
+    free("area_between", BETWEEN_PARAMS, REGION,
+        "The small area between two places (between the nearest pair when given sets).",
+        "area_between(objects(counter_top).only(), objects(fridge).only())"),
+    free("area_near", &[p("x", PLACE, Required), p("within", DISTANCE, Default(DefaultValue::Distance(0.5)))],
+        REGION,
+        "The area within `within` of a place.",
+        "area_near(bed)"),
+    free("center", &[p("of", SET_PLACE_OR_PLACE, Required)], REGION,
+        "The centre point of a set of places.",
+        "center(objects(potato))"),
+    // --- Route-dependent places -----------------------------------------------------------------
+    free("room_before_entering", &[p("room", ROOM, Required)], Ty::ROOM,
+        "The room the route passes through immediately before entering `room`.",
+        "room_before_entering(bath)"),
+    free("doorway_leaving", &[p("room", ROOM, Required)], REGION,
+        "The doorway the route uses to leave `room`.",
+        "doorway_leaving(start.room())"),
+    free("doorway_entering", &[p("room", ROOM, Required)], REGION,
+        "The doorway the route uses to enter `room`.",
+        "doorway_entering(bath)"),
+    free("first_entered", &[p("rooms", SET_ROOM, Required)], Ty::ROOM,
+        "The first of the rooms that the route enters.",
+        "first_entered(rooms(bedroom))"),
+    // --- Preferences ----------------------------------------------------------------------------
+    free("near", &[p("x", PLACES, Required)], PREF,
+        "Stay as close as possible to `x`.",
+        "prefer near(objects(sink).in(bath))"),
+    free("far", &[p("x", PLACES, Required)], PREF,
+        "Stay as far as possible from `x`.",
+        "prefer far(objects(sofa))"),
+    free("closer", &[p("a", PLACES, Required), p("b", PLACES, Required)], PREF,
+        "Stay closer to `a` than to `b`.",
+        "prefer closer(table, desk)"),
+    free("circle", &[p("x", PLACE, Required), p("direction", DIRECTION, CCW)], PREF,
+        "Circle once around the place.",
+        "prefer circle(table, counterclockwise)"),
+    free("follow_wall", &[p("room", ROOM, Required), p("direction", DIRECTION, Required)], PREF,
+        "Follow the walls of the room.",
+        "prefer follow_wall(start.room(), clockwise)"),
+    free("patrol", &[p("room", ROOM, Required), p("direction", DIRECTION, Required)], PREF,
+        "Loop along the room's walls, ending at the doorway used to leave it.",
+        "prefer patrol(start.room(), counterclockwise)"),
+    free("clearance", &[p("min", DISTANCE, Default(DefaultValue::Distance(0.5)))], PREF,
+        "Keep at least `min` away from obstacles where possible.",
+        "prefer clearance(0.5m)"),
+];
+
+const SET_PLACE_OR_PLACE: &[Ty] = &[Ty::SET_PLACE];
+
+/// Named values usable without a call.
+pub static CONSTANTS: &[Constant] = &[
+    Constant { name: "start", ty: Type::Region, doc: "The route's start position." },
+    Constant {
+        name: "here",
+        ty: Type::Region,
+        doc: "Where the current stage starts (`start` before the first stage).",
+    },
+];
+
+/// Enumeration words, meaningful only in a slot of their type.
+pub static ENUM_WORDS: &[EnumWord] = &[
+    EnumWord { name: "clockwise", ty: Type::Direction, doc: "Turning right around the centre." },
+    EnumWord {
+        name: "counterclockwise",
+        ty: Type::Direction,
+        doc: "Turning left around the centre.",
+    },
+    EnumWord { name: "straight", ty: Type::Metric, doc: "Straight-line (Euclidean) distance." },
+    EnumWord { name: "travel", ty: Type::Metric, doc: "Walking distance over free space." },
+];

@@ -1,0 +1,7 @@
+//! The semantic map model, geometry and distance fields, map formats and importers, rendering, and
+//! the table of the `.m2r` language's built-in functions with their type signatures.
+
+pub mod builtins;
+pub mod field;
+pub mod grid;
+pub mod map;

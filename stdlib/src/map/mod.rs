@@ -1,0 +1,5 @@
+//! The semantic map model and its file formats.
+
+pub mod model;
+
+pub use model::*;

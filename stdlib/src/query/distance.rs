@@ -1,0 +1,260 @@
+//! Distances between places: straight-line between footprints, and travel (geodesic) distance over
+//! the traversable grid.
+
+use super::{MapQuery, Target};
+use crate::grid::{Cell, Grid};
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+/// How far from a place the travel band may reach when no traversable cell touches it, metres.
+const BAND_SEARCH_M: f64 = 0.5;
+
+impl MapQuery<'_> {
+    /// Shortest straight-line distance between the cells of `a` and `b`, metres (0 when they share
+    /// a cell); `None` when either has no cells.
+    pub fn distance(&self, a: Target, b: Target) -> Option<f64> {
+        self.distance_cells(a, b).map(|d| d * self.res())
+    }
+
+    /// [`MapQuery::distance`] in cells.
+    pub fn distance_cells(&self, a: Target, b: Target) -> Option<f64> {
+        let (ca, cb) = (self.cells(a), self.cells(b));
+        if ca.is_empty() || cb.is_empty() {
+            return None;
+        }
+        let (small, large) = if ca.len() <= cb.len() { (ca, cb) } else { (cb, ca) };
+        if small.iter().any(|c| large.binary_search(c).is_ok()) {
+            return Some(0.0);
+        }
+        let (oa, ob) = (self.outline(a), self.outline(b));
+        let bb = bbox(ob);
+        let mut best = f64::INFINITY;
+        for &p in oa {
+            // The bounding box of `ob` bounds every distance from `p` from below.
+            if bbox_dist2(p, bb) >= best {
+                continue;
+            }
+            for &q in ob {
+                let dr = p.row as f64 - q.row as f64;
+                let dc = p.col as f64 - q.col as f64;
+                let d2 = dr * dr + dc * dc;
+                if d2 < best {
+                    best = d2;
+                }
+            }
+        }
+        Some(best.sqrt())
+    }
+
+    /// Traversable cells touching the target (its own traversable cells and their 8-neighbours);
+    /// when none exist (an object walled in by furniture), the traversable cells within 0.5 m.
+    pub fn band(&self, t: Target) -> Vec<Cell> {
+        let cells = self.cells(t);
+        let mut out = Vec::new();
+        let n = self.map.n() as i64;
+        let reach = [1i64, (BAND_SEARCH_M / self.res()).ceil().max(1.0) as i64];
+        for r in reach {
+            for &c in self.outline(t) {
+                for dr in -r..=r {
+                    for dc in -r..=r {
+                        let (y, x) = (c.row as i64 + dr, c.col as i64 + dc);
+                        if y < 0 || x < 0 || y >= n || x >= n {
+                            continue;
+                        }
+                        let q = Cell::new(y as u32, x as u32);
+                        if self.is_traversable(q) {
+                            out.push(q);
+                        }
+                    }
+                }
+            }
+            out.extend(cells.iter().copied().filter(|&c| self.is_traversable(c)));
+            if !out.is_empty() {
+                break;
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// Travel distances from the band of `from` to every cell.
+    pub fn travel_field(&self, from: Target) -> TravelField {
+        TravelField::new(&self.traversable, &self.band(from), self.res())
+    }
+
+    /// Travel distance between two places, metres; `None` when there is no traversable path.
+    pub fn travel_distance(&self, a: Target, b: Target) -> Option<f64> {
+        self.travel_field(a).to(&self.band(b))
+    }
+}
+
+/// Geodesic distances over the traversable grid: 8-connected, diagonal steps √2, no corner cutting
+/// (a diagonal step needs both orthogonal neighbours traversable), as the planner moves.
+pub struct TravelField {
+    dist: Grid<f64>,
+    res: f64,
+}
+
+#[derive(PartialEq)]
+struct Item(f64, usize);
+impl Eq for Item {}
+impl Ord for Item {
+    fn cmp(&self, o: &Self) -> Ordering {
+        o.0.total_cmp(&self.0).then_with(|| o.1.cmp(&self.1))
+    }
+}
+impl PartialOrd for Item {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+impl TravelField {
+    /// Dijkstra from every source cell (distance 0).
+    pub fn new(traversable: &Grid<bool>, sources: &[Cell], res: f64) -> Self {
+        let n = traversable.n();
+        let mut dist = Grid::new(n, f64::INFINITY);
+        let mut heap = BinaryHeap::new();
+        for &s in sources {
+            if traversable.get(s) == Some(&true) {
+                dist.set(s, 0.0);
+                heap.push(Item(0.0, traversable.index(s)));
+            }
+        }
+        let free = traversable.data();
+        while let Some(Item(d, i)) = heap.pop() {
+            if d > dist.data()[i] {
+                continue;
+            }
+            let (r, c) = ((i / n) as i64, (i % n) as i64);
+            for (dr, dc) in STEPS {
+                let (y, x) = (r + dr, c + dc);
+                if !traversable.contains(y, x) {
+                    continue;
+                }
+                let j = y as usize * n + x as usize;
+                if !free[j] {
+                    continue;
+                }
+                let diagonal = dr != 0 && dc != 0;
+                if diagonal && !(free[r as usize * n + x as usize] && free[y as usize * n + c as usize]) {
+                    continue;
+                }
+                let nd = d + if diagonal { std::f64::consts::SQRT_2 } else { 1.0 };
+                if nd < dist.data()[j] {
+                    dist.data_mut()[j] = nd;
+                    heap.push(Item(nd, j));
+                }
+            }
+        }
+        TravelField { dist, res }
+    }
+
+    /// Distance in cells to one cell (`INFINITY` when unreachable or outside the grid).
+    pub fn cells_to(&self, cell: Cell) -> f64 {
+        self.dist.get(cell).copied().unwrap_or(f64::INFINITY)
+    }
+
+    /// Shortest travel distance to any of `cells`, metres; `None` when none is reachable.
+    pub fn to(&self, cells: &[Cell]) -> Option<f64> {
+        let d = cells.iter().map(|&c| self.cells_to(c)).fold(f64::INFINITY, f64::min);
+        d.is_finite().then_some(d * self.res)
+    }
+
+    /// One shortest path from the sources to `goal` (inclusive), following decreasing distance;
+    /// `None` when `goal` is unreachable.
+    pub fn path_to(&self, traversable: &Grid<bool>, goal: Cell) -> Option<Vec<Cell>> {
+        let n = self.dist.n();
+        if !self.cells_to(goal).is_finite() {
+            return None;
+        }
+        let mut path = vec![goal];
+        let mut cur = goal;
+        while self.cells_to(cur) > 0.0 {
+            let (r, c) = (cur.row as i64, cur.col as i64);
+            let mut best: Option<(f64, Cell)> = None;
+            for (dr, dc) in STEPS {
+                let (y, x) = (r + dr, c + dc);
+                if !traversable.contains(y, x) {
+                    continue;
+                }
+                let q = Cell::new(y as u32, x as u32);
+                let diagonal = dr != 0 && dc != 0;
+                let free = |yy: i64, xx: i64| traversable.data()[yy as usize * n + xx as usize];
+                if diagonal && !(free(r, x) && free(y, c)) {
+                    continue;
+                }
+                let step = if diagonal { std::f64::consts::SQRT_2 } else { 1.0 };
+                let dq = self.cells_to(q);
+                if (dq + step - self.cells_to(cur)).abs() < 1e-9 && best.is_none_or(|(bd, _)| dq < bd) {
+                    best = Some((dq, q));
+                }
+            }
+            let (_, next) = best?;
+            path.push(next);
+            cur = next;
+            if path.len() > n * n {
+                return None;
+            }
+        }
+        path.reverse();
+        Some(path)
+    }
+}
+
+/// 8-neighbour steps: orthogonal first, then diagonal, so ties are broken the same way everywhere.
+pub(crate) const STEPS: [(i64, i64); 8] = [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (-1, 1), (1, -1), (1, 1)];
+
+/// `(min_row, min_col, max_row, max_col)`.
+fn bbox(cells: &[Cell]) -> (f64, f64, f64, f64) {
+    let mut b = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for c in cells {
+        let (r, k) = (c.row as f64, c.col as f64);
+        b = (b.0.min(r), b.1.min(k), b.2.max(r), b.3.max(k));
+    }
+    b
+}
+
+fn bbox_dist2(p: Cell, b: (f64, f64, f64, f64)) -> f64 {
+    let (r, c) = (p.row as f64, p.col as f64);
+    let dr = (b.0 - r).max(0.0).max(r - b.2);
+    let dc = (b.1 - c).max(0.0).max(c - b.3);
+    dr * dr + dc * dc
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testmap::two_rooms;
+    use super::*;
+
+    #[test]
+    fn footprint_distance_is_gap_not_centre_distance() {
+        let map = two_rooms();
+        let q = MapQuery::new(&map);
+        let bed = map.object(1).unwrap();
+        let lamp = map.object(2).unwrap();
+        // bed cols 2..=5, lamp col 7: gap of 2 cells between col 5 and col 7.
+        let d = q.distance_cells(Target::Object(bed), Target::Object(lamp)).unwrap();
+        assert!((d - 2.0).abs() < 1e-9, "{d}");
+        assert_eq!(q.distance(Target::Object(bed), Target::Room(1)), Some(0.0));
+    }
+
+    #[test]
+    fn travel_distance_goes_around_walls() {
+        let map = two_rooms();
+        let q = MapQuery::new(&map);
+        let a = [Cell::new(2, 2)];
+        let b = [Cell::new(2, 12)];
+        let straight = q.distance_cells(Target::Cells(&a), Target::Cells(&b)).unwrap();
+        let travel = q.travel_distance(Target::Cells(&a), Target::Cells(&b)).unwrap() / q.res();
+        // The wall at col 9 has its only door at row 8, so travel is longer than 10 cells.
+        assert!(travel > straight + 4.0, "travel {travel} straight {straight}");
+        let field = q.travel_field(Target::Cells(&a));
+        let path = field.path_to(q.traversable(), Cell::new(2, 12)).unwrap();
+        assert!(path.contains(&Cell::new(8, 9)));
+        for w in path.windows(2) {
+            assert!(w[0].dist(w[1]) < 1.5);
+        }
+    }
+}
