@@ -14,7 +14,7 @@
 use indexmap::IndexMap;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// Extra key holding the gold `.m2r` program of an m2rc-generated episode.
@@ -40,7 +40,11 @@ pub enum EpisodeError {
         source: serde_json::Error,
     },
     #[error("{file}: field `{path}`: {message}")]
-    Field { file: String, path: String, message: String },
+    Field {
+        file: String,
+        path: String,
+        message: String,
+    },
 }
 
 /// A `[row, col]` point as stored in region cells and trajectories (integers in the reference files).
@@ -96,9 +100,11 @@ pub struct Episode {
     /// Every other key (legacy human-reference fields, annotator keys, ...), in file order.
     #[serde(flatten)]
     pub extra: IndexMap<String, Value>,
-    /// The JSON this episode was read from, for faithful writing; never serialized.
+    /// Where this episode was read from (for faithful writing and provenance); never
+    /// serialized. Public only so that `Episode { .., ..Episode::default() }` works elsewhere.
+    #[doc(hidden)]
     #[serde(skip)]
-    source: Source,
+    pub origin: Origin,
 }
 
 /// How an m2rc episode was produced. The suite generator may add more keys in `extra`.
@@ -163,7 +169,7 @@ pub enum Shape {
     Freeform,
 }
 
-/// Defaults the reference applies when a region key is absent.
+/// The annotator's defaults for a new region (the evaluator itself requires explicit values).
 pub const DEFAULT_RADIUS: f64 = 6.0;
 pub const DEFAULT_WIDTH: f64 = 12.0;
 pub const DEFAULT_HEIGHT: f64 = 12.0;
@@ -183,7 +189,10 @@ pub struct Scope {
 
 impl Scope {
     pub fn global() -> Self {
-        Scope { kind: Some("global".into()), ..Scope::default() }
+        Scope {
+            kind: Some("global".into()),
+            ..Scope::default()
+        }
     }
 
     pub fn between(from_order: i64, to_order: i64) -> Self {
@@ -199,16 +208,6 @@ impl Scope {
     pub fn is_between(&self) -> bool {
         self.kind.as_deref() == Some(BETWEEN_HARD_CONSTRAINTS)
     }
-}
-
-/// The region fields shared by hard and soft constraints.
-pub trait Region {
-    fn shape(&self) -> Option<Shape>;
-    fn center(&self) -> [f64; 2];
-    fn radius(&self) -> f64;
-    fn width(&self) -> f64;
-    fn height(&self) -> f64;
-    fn cells(&self) -> &[CellRc];
 }
 
 /// A hard constraint (B.1): a must-pass goal or a must-avoid region.
@@ -280,27 +279,6 @@ fn cells_center(cells: &[CellRc]) -> [f64; 2] {
     let r = cells.iter().map(|c| c[0] as f64).sum::<f64>() / n;
     let c = cells.iter().map(|c| c[1] as f64).sum::<f64>() / n;
     [r, c]
-}
-
-impl Region for HardConstraint {
-    fn shape(&self) -> Option<Shape> {
-        Some(self.shape)
-    }
-    fn center(&self) -> [f64; 2] {
-        self.center.unwrap_or([0.0, 0.0])
-    }
-    fn radius(&self) -> f64 {
-        self.radius.unwrap_or(DEFAULT_RADIUS)
-    }
-    fn width(&self) -> f64 {
-        self.width.unwrap_or(DEFAULT_WIDTH)
-    }
-    fn height(&self) -> f64 {
-        self.height.unwrap_or(DEFAULT_HEIGHT)
-    }
-    fn cells(&self) -> &[CellRc] {
-        self.cells.as_deref().unwrap_or(&[])
-    }
 }
 
 /// An object footprint a soft preference is measured against.
@@ -411,7 +389,9 @@ pub struct SoftConstraint {
 
 impl SoftConstraint {
     pub fn preference(&self) -> Option<PreferenceType> {
-        self.preference_type.as_deref().and_then(PreferenceType::parse)
+        self.preference_type
+            .as_deref()
+            .and_then(PreferenceType::parse)
     }
 
     pub fn is_scoped(&self) -> bool {
@@ -419,32 +399,15 @@ impl SoftConstraint {
     }
 }
 
-impl Region for SoftConstraint {
-    fn shape(&self) -> Option<Shape> {
-        self.shape
-    }
-    fn center(&self) -> [f64; 2] {
-        self.center.unwrap_or([0.0, 0.0])
-    }
-    fn radius(&self) -> f64 {
-        self.radius.unwrap_or(DEFAULT_RADIUS)
-    }
-    fn width(&self) -> f64 {
-        self.width.unwrap_or(DEFAULT_WIDTH)
-    }
-    fn height(&self) -> f64 {
-        self.height.unwrap_or(DEFAULT_HEIGHT)
-    }
-    fn cells(&self) -> &[CellRc] {
-        self.cells.as_deref().unwrap_or(&[])
-    }
+/// The JSON an episode was read from, and the file it came from. Compares equal to anything: it
+/// is bookkeeping, not data.
+#[derive(Clone, Debug, Default)]
+pub struct Origin {
+    json: Option<Arc<Value>>,
+    path: Option<PathBuf>,
 }
 
-/// The JSON an episode was read from. Compares equal to anything: it is bookkeeping, not data.
-#[derive(Clone, Debug, Default)]
-struct Source(Option<Arc<Value>>);
-
-impl PartialEq for Source {
+impl PartialEq for Origin {
     fn eq(&self, _: &Self) -> bool {
         true
     }
@@ -460,30 +423,45 @@ impl Episode {
                 message: "an instruction file must be a JSON object".into(),
             });
         }
-        let mut episode: Episode = serde_path_to_error::deserialize(&value).map_err(|e| {
-            EpisodeError::Field {
+        let mut episode: Episode =
+            serde_path_to_error::deserialize(&value).map_err(|e| EpisodeError::Field {
                 file: file.to_string(),
                 path: e.path().to_string(),
                 message: e.inner().to_string(),
-            }
-        })?;
-        episode.source = Source(Some(Arc::new(value)));
+            })?;
+        episode.origin.json = Some(Arc::new(value));
         Ok(episode)
     }
 
     /// Parses an episode from JSON text. `file` names the input in error messages.
     pub fn from_json_str(text: &str, file: &str) -> Result<Episode, EpisodeError> {
-        let value: Value = serde_json::from_str(text)
-            .map_err(|source| EpisodeError::Json { file: file.to_string(), source })?;
+        let value: Value = serde_json::from_str(text).map_err(|source| EpisodeError::Json {
+            file: file.to_string(),
+            source,
+        })?;
         Episode::from_value(value, file)
     }
 
     /// Reads an instruction file.
     pub fn read(path: &Path) -> Result<Episode, EpisodeError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| EpisodeError::Io { file: file.clone(), source })?;
-        Episode::from_json_str(&text, &file)
+        let text = std::fs::read_to_string(path).map_err(|source| EpisodeError::Io {
+            file: file.clone(),
+            source,
+        })?;
+        let mut episode = Episode::from_json_str(&text, &file)?;
+        episode.origin.path = Some(path.to_path_buf());
+        Ok(episode)
+    }
+
+    /// The file this episode was read from, if any (reported with path-shape references).
+    pub fn source_path(&self) -> Option<&Path> {
+        self.origin.path.as_deref()
+    }
+
+    /// Records the file this episode belongs to, e.g. after reading it from memory.
+    pub fn set_source_path(&mut self, path: Option<PathBuf>) {
+        self.origin.path = path;
     }
 
     /// The episode as JSON. For an episode read from a file, keys and number spellings that the
@@ -492,7 +470,7 @@ impl Episode {
         // Serializing plain data (strings, numbers, maps with string keys) cannot fail; a NaN
         // would become `null`, as serde_json does for non-finite floats.
         let fresh = serde_json::to_value(self).unwrap_or(Value::Null);
-        match &self.source.0 {
+        match &self.origin.json {
             Some(source) => reconcile(fresh, source),
             None => fresh,
         }
@@ -512,7 +490,7 @@ impl Episode {
 
     /// Forgets the source JSON, so that the next write is the canonical serialization.
     pub fn detach_source(&mut self) {
-        self.source = Source(None);
+        self.origin.json = None;
     }
 }
 
@@ -603,9 +581,12 @@ mod tests {
         let original: Value = serde_json::from_str(SAMPLE).unwrap();
         let ep = Episode::from_json_str(SAMPLE, "sample.json").unwrap();
         assert_eq!(ep.hard_constraints.len(), 2);
-        assert_eq!(ep.hard_constraints[1].cells(), &[[0, 1], [1, 1]]);
+        assert_eq!(
+            ep.hard_constraints[1].cells.as_deref(),
+            Some(&[[0, 1], [1, 1]][..])
+        );
         assert!(ep.hard_constraints[1].is_scoped());
-        assert_eq!(ep.hard_constraints[0].radius(), 20.0);
+        assert_eq!(ep.hard_constraints[0].radius, Some(20.0));
         let written = ep.to_value();
         assert_eq!(written, original);
         // Same text, key order included.
@@ -630,7 +611,10 @@ mod tests {
         let keys: Vec<&String> = v.as_object().unwrap().keys().collect();
         assert_eq!(keys.last().unwrap().as_str(), GENERATION_KEY);
         let back = Episode::from_json_str(&text, "x").unwrap();
-        assert_eq!(back.m2rc_gold_program.as_deref(), Some("route { visit bed }"));
+        assert_eq!(
+            back.m2rc_gold_program.as_deref(),
+            Some("route { visit bed }")
+        );
         assert_eq!(back.m2rc_generation.unwrap().seed, Some(42));
     }
 
@@ -638,7 +622,10 @@ mod tests {
     fn fresh_episode_writes_reference_nulls() {
         let mut avoid = HardConstraint::freeform("x", ConstraintKind::MustAvoid, vec![[1, 2]]);
         avoid.scope = Some(Scope::between(1, 2));
-        let ep = Episode { hard_constraints: vec![avoid], ..Episode::default() };
+        let ep = Episode {
+            hard_constraints: vec![avoid],
+            ..Episode::default()
+        };
         let v = ep.to_value();
         let h = &v["hard_constraints"][0];
         assert!(h.get("order").unwrap().is_null());
@@ -651,11 +638,15 @@ mod tests {
     #[test]
     fn malformed_fields_are_named() {
         let bad = r#"{"hard_constraints": [{"kind": "must_pass", "shape": "hexagon"}]}"#;
-        let err = Episode::from_json_str(bad, "ep.json").unwrap_err().to_string();
+        let err = Episode::from_json_str(bad, "ep.json")
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("ep.json"), "{err}");
         assert!(err.contains("hard_constraints[0]"), "{err}");
         let bad = r#"{"soft_constraints": [{"cells": [[1.5, 2]]}]}"#;
-        let err = Episode::from_json_str(bad, "ep.json").unwrap_err().to_string();
+        let err = Episode::from_json_str(bad, "ep.json")
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("soft_constraints[0]"), "{err}");
         assert!(Episode::from_json_str("[1]", "ep.json").is_err());
         assert!(Episode::from_json_str("{", "ep.json").is_err());
@@ -663,7 +654,10 @@ mod tests {
 
     #[test]
     fn instruction_id_is_zero_padded() {
-        let ep = Episode { id: Some(12), ..Episode::default() };
+        let ep = Episode {
+            id: Some(12),
+            ..Episode::default()
+        };
         assert_eq!(ep.instruction_id().as_deref(), Some("instruction_000012"));
     }
 }

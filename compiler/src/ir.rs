@@ -167,7 +167,9 @@ pub enum PlaceKind {
         category: String,
     },
     /// An area built from other places (corner, doorway, area between, ...).
-    Region { construction: Construction },
+    Region {
+        construction: Construction,
+    },
 }
 
 /// How a region was built, for provenance and pictures.
@@ -229,7 +231,12 @@ impl SourceSpan {
                 col += 1;
             }
         }
-        SourceSpan { start: span.start, end: span.end, line, col }
+        SourceSpan {
+            start: span.start,
+            end: span.end,
+            line,
+            col,
+        }
     }
 
     pub fn span(self) -> Span {
@@ -301,7 +308,9 @@ impl<'de> Deserialize<'de> for CellSet {
                 )));
             }
             if (c1 - c0) as usize > 1 << 20 {
-                return Err(serde::de::Error::custom(format!("cell run [{row}, {c0}, {c1}] is too long")));
+                return Err(serde::de::Error::custom(format!(
+                    "cell run [{row}, {c0}, {c1}] is too long"
+                )));
             }
             cells.extend((c0..=c1).map(|col| Cell::new(row, col)));
         }
@@ -317,7 +326,8 @@ impl RouteIr {
 
     /// Reads the JSON form; rejects other schema versions with a message naming both.
     pub fn from_json(text: &str) -> Result<Self, String> {
-        let ir: RouteIr = serde_json::from_str(text).map_err(|e| format!("invalid RouteIR JSON: {e}"))?;
+        let ir: RouteIr =
+            serde_json::from_str(text).map_err(|e| format!("invalid RouteIR JSON: {e}"))?;
         if ir.version != ROUTE_IR_VERSION {
             return Err(format!(
                 "RouteIR version {} is not supported (this build reads version {ROUTE_IR_VERSION})",
@@ -339,14 +349,23 @@ mod tests {
 
     fn place(cells: Vec<Cell>) -> Place {
         Place {
-            kind: PlaceKind::Object { id: 7, category: "bed".into(), room: Some(2) },
+            kind: PlaceKind::Object {
+                id: 7,
+                category: "bed".into(),
+                room: Some(2),
+            },
             label: "bed #7".into(),
             cells: CellSet::new(cells),
         }
     }
 
     fn sample() -> RouteIr {
-        let p = place(vec![Cell::new(3, 4), Cell::new(3, 5), Cell::new(3, 6), Cell::new(4, 4)]);
+        let p = place(vec![
+            Cell::new(3, 4),
+            Cell::new(3, 5),
+            Cell::new(3, 6),
+            Cell::new(4, 4),
+        ]);
         RouteIr {
             version: ROUTE_IR_VERSION,
             map_id: "demo".into(),
@@ -357,7 +376,12 @@ mod tests {
                 name: "stage1".into(),
                 target: p.clone(),
                 passes: vec![],
-                span: SourceSpan { start: 0, end: 5, line: 1, col: 1 },
+                span: SourceSpan {
+                    start: 0,
+                    end: 5,
+                    line: 1,
+                    col: 1,
+                },
             }],
             constraints: vec![Constraint {
                 id: "c0".into(),
@@ -375,10 +399,16 @@ mod tests {
         let ir = sample();
         let json = ir.to_json();
         let v: serde_json::Value = serde_json::from_str(&json).unwrap();
-        assert_eq!(v["stages"][0]["target"]["cells"], serde_json::json!([[3, 4, 6], [4, 4, 4]]));
+        assert_eq!(
+            v["stages"][0]["target"]["cells"],
+            serde_json::json!([[3, 4, 6], [4, 4, 4]])
+        );
         assert_eq!(v["stages"][0]["target"]["type"], "object");
         assert_eq!(v["constraints"][0]["kind"], "near");
-        assert_eq!(v["constraints"][0]["stage_scope"], serde_json::json!({"stages": [0]}));
+        assert_eq!(
+            v["constraints"][0]["stage_scope"],
+            serde_json::json!({"stages": [0]})
+        );
         assert_eq!(RouteIr::from_json(&json).unwrap(), ir);
     }
 
@@ -386,9 +416,19 @@ mod tests {
     fn rejects_other_versions_and_bad_runs() {
         let mut ir = sample();
         ir.version = 99;
-        assert!(RouteIr::from_json(&ir.to_json()).unwrap_err().contains("version 99"));
-        let bad = serde_json::to_string(&sample()).unwrap().replace("[3,4,6]", "[3,6,4]");
-        assert!(RouteIr::from_json(&bad).unwrap_err().contains("ends before"));
+        assert!(
+            RouteIr::from_json(&ir.to_json())
+                .unwrap_err()
+                .contains("version 99")
+        );
+        let bad = serde_json::to_string(&sample())
+            .unwrap()
+            .replace("[3,4,6]", "[3,6,4]");
+        assert!(
+            RouteIr::from_json(&bad)
+                .unwrap_err()
+                .contains("ends before")
+        );
     }
 
     #[test]

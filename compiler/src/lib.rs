@@ -1,2 +1,15 @@
 //! placeholder
+mod calls;
+mod categories;
+pub mod check;
+pub mod diagnostic;
+pub mod eval;
 pub mod ir;
+pub mod resolve;
+mod scopecheck;
+mod slot;
+pub mod suggest;
+mod typecheck;
+pub use check::{CheckResult, check};
+pub mod lsp;
+pub mod verify;

@@ -145,21 +145,48 @@ pub enum ExprKind {
     Int(i64),
     Number(f64),
     /// `1.5m`, `30cm`: the value as written plus its unit.
-    Distance { value: f64, unit: DistanceUnit },
+    Distance {
+        value: f64,
+        unit: DistanceUnit,
+    },
     Bool(bool),
     /// A string literal. The language has no string-typed built-ins; the checker reports a
     /// string where a category was meant with a fix that drops the quotes.
     Str(String),
     /// `f(args)`
-    Call { func: Ident, args: Vec<Arg> },
+    Call {
+        func: Ident,
+        args: Vec<Arg>,
+    },
     /// `receiver.method(args)`; `receiver.method` without parentheses is a call with no args.
-    Method { receiver: Box<Expr>, method: Ident, args: Vec<Arg>, parens: bool },
+    Method {
+        receiver: Box<Expr>,
+        method: Ident,
+        args: Vec<Arg>,
+        parens: bool,
+    },
     /// `x => body`
-    Lambda { param: Ident, body: Box<Expr> },
-    Binary { op: BinOp, op_span: Span, lhs: Box<Expr>, rhs: Box<Expr> },
-    Unary { op: UnOp, op_span: Span, operand: Box<Expr> },
+    Lambda {
+        param: Ident,
+        body: Box<Expr>,
+    },
+    Binary {
+        op: BinOp,
+        op_span: Span,
+        lhs: Box<Expr>,
+        rhs: Box<Expr>,
+    },
+    Unary {
+        op: UnOp,
+        op_span: Span,
+        operand: Box<Expr>,
+    },
     /// `if cond { then } else { otherwise }` as an expression.
-    If { cond: Box<Expr>, then: Box<Expr>, otherwise: Box<Expr> },
+    If {
+        cond: Box<Expr>,
+        then: Box<Expr>,
+        otherwise: Box<Expr>,
+    },
     /// An expression the parser could not read; its diagnostic is already reported.
     Error,
 }

@@ -15,23 +15,56 @@ pub enum PlanFailure {
     StartBlocked { start: Cell },
     /// The route is inside an avoid region when a segment begins.
     #[error("segment {segment} starts at [{}, {}], inside a region it must avoid", start.row, start.col)]
-    StartInForbidden { segment: usize, start: Cell, forbids: Vec<Origin> },
+    StartInForbidden {
+        segment: usize,
+        start: Cell,
+        forbids: Vec<Origin>,
+    },
     /// The stage target has no traversable cell (and no usable fallback).
     #[error("stage {stage} of segment {segment}: the target has no traversable cell")]
-    TargetEmpty { segment: usize, stage: usize, origin: Origin },
+    TargetEmpty {
+        segment: usize,
+        stage: usize,
+        origin: Origin,
+    },
     /// Every traversable target cell is inside an active avoid region.
-    #[error("stage {stage} of segment {segment}: every reachable cell of the target is inside a region to avoid")]
-    GoalBlocked { segment: usize, stage: usize, origin: Origin, forbids: Vec<Origin> },
+    #[error(
+        "stage {stage} of segment {segment}: every reachable cell of the target is inside a region to avoid"
+    )]
+    GoalBlocked {
+        segment: usize,
+        stage: usize,
+        origin: Origin,
+        forbids: Vec<Origin>,
+    },
     /// No path exists even ignoring the avoid regions (the target is in a disconnected part).
     #[error("stage {stage} of segment {segment}: the target cannot be reached from [{}, {}]", from.row, from.col)]
-    Unreachable { segment: usize, stage: usize, origin: Origin, from: Cell },
+    Unreachable {
+        segment: usize,
+        stage: usize,
+        origin: Origin,
+        from: Cell,
+    },
     /// A path exists, but every one crosses an active avoid region. `forbids` lists the avoid
     /// regions whose removal alone reconnects the target, or all active ones when no single one does.
-    #[error("stage {stage} of segment {segment}: the target is unreachable without entering a region to avoid")]
-    UnreachableUnderAvoids { segment: usize, stage: usize, origin: Origin, from: Cell, forbids: Vec<Origin> },
+    #[error(
+        "stage {stage} of segment {segment}: the target is unreachable without entering a region to avoid"
+    )]
+    UnreachableUnderAvoids {
+        segment: usize,
+        stage: usize,
+        origin: Origin,
+        from: Cell,
+        forbids: Vec<Origin>,
+    },
     /// The expansion budget ran out before the target was reached.
     #[error("stage {stage} of segment {segment}: search budget of {budget} expansions exhausted")]
-    BudgetExceeded { segment: usize, stage: usize, origin: Origin, budget: u64 },
+    BudgetExceeded {
+        segment: usize,
+        stage: usize,
+        origin: Origin,
+        budget: u64,
+    },
     /// The problem itself is malformed (mask sizes, weights); a caller bug or a bad input file.
     #[error("invalid planning problem: {message}")]
     InvalidProblem { message: String },

@@ -42,7 +42,11 @@ impl Area {
     /// The cells in row-major order.
     pub fn cells(&self) -> Vec<Cell> {
         match self {
-            Area::Mask(g) => g.iter_cells().filter(|(_, v)| **v).map(|(c, _)| c).collect(),
+            Area::Mask(g) => g
+                .iter_cells()
+                .filter(|(_, v)| **v)
+                .map(|(c, _)| c)
+                .collect(),
             Area::Cells(c) => {
                 let mut v = c.clone();
                 v.sort_unstable();
@@ -62,7 +66,9 @@ impl Area {
 
 /// Where a stage, an avoid region or a soft term came from, so a failure can be mapped back to the
 /// `.m2r` span that caused it. Indices refer to the RouteIR the problem was lowered from.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
+)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Origin {
     /// Built by hand (tests, benchmarks).
@@ -86,10 +92,17 @@ pub enum Target {
     Room(Area),
     /// Region cells. `fallback`, for "near" regions, is the room and centre whose nearest traversable
     /// cell replaces a region that has no traversable cell.
-    Region { cells: Area, fallback: Option<Fallback> },
+    Region {
+        cells: Area,
+        fallback: Option<Fallback>,
+    },
     /// An object: the goal is the band `0 < d ≤ goal radius` around its footprint, inside its room,
     /// falling back to the room's traversable cell nearest the object's centre.
-    Object { footprint: Vec<Cell>, room: Option<Area>, center: [f64; 2] },
+    Object {
+        footprint: Vec<Cell>,
+        room: Option<Area>,
+        center: [f64; 2],
+    },
 }
 
 /// The replacement goal of a target whose own cells are unusable.
@@ -145,13 +158,25 @@ pub enum RelativeMode {
 /// rounded centre cell, as the reference does, before it gets here).
 #[derive(Clone, Debug, PartialEq)]
 pub enum SoftKind {
-    Near { reference: Area },
-    Far { reference: Area },
-    Relative { closer: Area, farther: Area, mode: RelativeMode },
+    Near {
+        reference: Area,
+    },
+    Far {
+        reference: Area,
+    },
+    Relative {
+        closer: Area,
+        farther: Area,
+        mode: RelativeMode,
+    },
     /// Stay near the union of the waypoint cells (the reference `prefer_path_shape` field).
-    PathShape { waypoints: Area },
+    PathShape {
+        waypoints: Area,
+    },
     /// An extra clearance term with its own radius, in metres (the `clearance(d)` preference).
-    Clearance { radius_m: f64 },
+    Clearance {
+        radius_m: f64,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -302,7 +327,9 @@ impl CostProfile {
         ];
         for (name, v) in fields {
             if !v.is_finite() || v < 0.0 {
-                return Err(format!("cost profile field `{name}` must be a finite number >= 0, got {v}"));
+                return Err(format!(
+                    "cost profile field `{name}` must be a finite number >= 0, got {v}"
+                ));
             }
         }
         Ok(())

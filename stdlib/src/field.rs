@@ -110,7 +110,11 @@ mod tests {
     use proptest::prelude::*;
 
     fn brute(sources: &Grid<bool>) -> Grid<f64> {
-        let pts: Vec<Cell> = sources.iter_cells().filter(|(_, s)| **s).map(|(c, _)| c).collect();
+        let pts: Vec<Cell> = sources
+            .iter_cells()
+            .filter(|(_, s)| **s)
+            .map(|(c, _)| c)
+            .collect();
         let data = sources
             .iter_cells()
             .map(|(c, _)| {

@@ -47,7 +47,10 @@ pub struct Grid<T> {
 
 impl<T: Clone> Grid<T> {
     pub fn new(n: usize, fill: T) -> Self {
-        Grid { n, data: vec![fill; n * n] }
+        Grid {
+            n,
+            data: vec![fill; n * n],
+        }
     }
 }
 
@@ -117,7 +120,10 @@ impl<T> Grid<T> {
     }
 
     pub fn map<U>(&self, f: impl FnMut(&T) -> U) -> Grid<U> {
-        Grid { n: self.n, data: self.data.iter().map(f).collect() }
+        Grid {
+            n: self.n,
+            data: self.data.iter().map(f).collect(),
+        }
     }
 
     /// Iterates `(cell, &value)` in row-major order.

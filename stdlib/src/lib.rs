@@ -2,6 +2,12 @@
 //! the table of the `.m2r` language's built-in functions with their type signatures.
 
 pub mod builtins;
+pub mod demo;
 pub mod field;
 pub mod grid;
+pub mod import;
+pub mod load;
 pub mod map;
+pub mod query;
+pub mod render;
+pub mod vocab;

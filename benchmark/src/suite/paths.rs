@@ -99,7 +99,10 @@ impl PassMask {
         let mut prev = vec![usize::MAX; n * n];
         let mut heap = BinaryHeap::new();
         dist[s] = 0.0;
-        heap.push(Entry { cost: 0.0, index: s });
+        heap.push(Entry {
+            cost: 0.0,
+            index: s,
+        });
         while let Some(Entry { cost, index }) = heap.pop() {
             if cost > dist[index] {
                 continue;
@@ -125,12 +128,19 @@ impl PassMask {
                     continue;
                 }
                 let next = nr as usize * n + nc as usize;
-                let step = if diagonal { std::f64::consts::SQRT_2 } else { 1.0 };
+                let step = if diagonal {
+                    std::f64::consts::SQRT_2
+                } else {
+                    1.0
+                };
                 let nd = cost + step;
                 if nd < dist[next] {
                     dist[next] = nd;
                     prev[next] = index;
-                    heap.push(Entry { cost: nd, index: next });
+                    heap.push(Entry {
+                        cost: nd,
+                        index: next,
+                    });
                 }
             }
         }
@@ -138,7 +148,11 @@ impl PassMask {
     }
 
     fn ok(&self, r: i64, c: i64) -> bool {
-        r >= 0 && c >= 0 && (r as usize) < self.n && (c as usize) < self.n && self.pass[r as usize * self.n + c as usize]
+        r >= 0
+            && c >= 0
+            && (r as usize) < self.n
+            && (c as usize) < self.n
+            && self.pass[r as usize * self.n + c as usize]
     }
 
     /// Cells reachable from `start` (flood fill with the same move rules).
@@ -218,8 +232,19 @@ mod tests {
         goal[4] = true; // (1,1)
         // Forbidding (0,1) makes the diagonal from (0,0) illegal: it would touch (0,1) at a corner.
         let forbidden = [1usize];
-        let (route, len) = chain_legs(&free, Cell::new(0, 0), &[Leg { goal: &goal, forbidden: &forbidden }]).unwrap();
-        assert_eq!(route, vec![Cell::new(0, 0), Cell::new(1, 0), Cell::new(1, 1)]);
+        let (route, len) = chain_legs(
+            &free,
+            Cell::new(0, 0),
+            &[Leg {
+                goal: &goal,
+                forbidden: &forbidden,
+            }],
+        )
+        .unwrap();
+        assert_eq!(
+            route,
+            vec![Cell::new(0, 0), Cell::new(1, 0), Cell::new(1, 1)]
+        );
         assert_eq!(len, 2.0);
     }
 

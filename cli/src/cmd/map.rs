@@ -1,15 +1,251 @@
-//! `m2rc map ...`: not built yet (see the open issues).
+//! `m2rc map import | info | render`: load a map argument (ProcTHOR house, Map2Route map, or
+//! `demo`), write it as a Map2Route map, summarise it, or draw it.
 
-use anyhow::{Result, bail};
-use clap::Subcommand;
+use crate::io::write_atomic;
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand, ValueEnum};
+use m2rc_stdlib::import::{
+    AssetDb, DEFAULT_PADDING_M, DEFAULT_RESOLUTION_M, DEFAULT_ROBOT_RADIUS_M, ImportOptions,
+};
+use m2rc_stdlib::load::{LoadOptions, SourceKind, load_map_with};
+use m2rc_stdlib::map::{MapDocument, SemanticMap, write_map_document_json};
+use m2rc_stdlib::render::{RenderOptions, render_map};
+use serde_json::json;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Subcommand)]
 pub enum MapCommand {
-    /// Placeholder until the subcommands land.
-    Todo,
+    /// Import a ProcTHOR house, a Map2Route map or `demo` and write it as a Map2Route map.
+    Import(ImportArgs),
+    /// Summarise a map: grid, rooms with areas, object categories, doorway adjacency.
+    Info(InfoArgs),
+    /// Draw a map as PNG and/or SVG.
+    Render(RenderArgs),
 }
 
-pub fn run(_command: MapCommand) -> Result<ExitCode> {
-    bail!("`m2rc map` is not available yet in this build")
+/// Where the map comes from and how a house is turned into a grid.
+#[derive(Args)]
+pub struct SourceArgs {
+    /// A ProcTHOR house (.json, or .jsonl/.jsonl.gz with --index), a Map2Route map, or `demo`.
+    pub map: String,
+    /// Which house of a .jsonl(.gz) file, 0-based.
+    #[arg(long)]
+    pub index: Option<usize>,
+    /// ProcTHOR asset database (asset-database.json); without it a built-in size table is used.
+    #[arg(long)]
+    pub assets: Option<PathBuf>,
+    /// Metres per grid cell for houses.
+    #[arg(long, default_value_t = DEFAULT_RESOLUTION_M)]
+    pub resolution: f64,
+    /// Robot radius in metres; free space is eroded by it (houses only).
+    #[arg(long, default_value_t = DEFAULT_ROBOT_RADIUS_M)]
+    pub robot_radius: f64,
+    /// Margin around the floor polygons in metres (houses only).
+    #[arg(long, default_value_t = DEFAULT_PADDING_M)]
+    pub padding: f64,
+}
+
+#[derive(Args)]
+pub struct ImportArgs {
+    #[command(flatten)]
+    pub source: SourceArgs,
+    /// Output Map2Route map JSON.
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum InfoFormat {
+    Text,
+    Json,
+}
+
+#[derive(Args)]
+pub struct InfoArgs {
+    #[command(flatten)]
+    pub source: SourceArgs,
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: InfoFormat,
+}
+
+#[derive(Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub source: SourceArgs,
+    /// PNG output.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// SVG output.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+    /// Label furniture with its category.
+    #[arg(long)]
+    pub labels: bool,
+}
+
+pub fn run(command: MapCommand) -> Result<ExitCode> {
+    match command {
+        MapCommand::Import(a) => import(a),
+        MapCommand::Info(a) => info(a),
+        MapCommand::Render(a) => render(a),
+    }
+}
+
+fn load(src: &SourceArgs) -> Result<(MapDocument, SourceKind)> {
+    let db = match &src.assets {
+        Some(p) => Some(AssetDb::load(p)?),
+        None => None,
+    };
+    let opts = LoadOptions {
+        index: src.index,
+        assets: db.as_ref(),
+        import: ImportOptions {
+            resolution: src.resolution,
+            padding_m: src.padding,
+            robot_radius_m: src.robot_radius,
+            map_id: None,
+        },
+    };
+    Ok(load_map_with(&src.map, &opts)?)
+}
+
+fn import(args: ImportArgs) -> Result<ExitCode> {
+    let (doc, kind) = load(&args.source)?;
+    let bytes = write_map_document_json(&doc);
+    write_atomic(&args.output, &bytes)?;
+    eprintln!(
+        "wrote {} ({} x {} cells, {} rooms, {} objects, from {})",
+        args.output.display(),
+        doc.map.n(),
+        doc.map.n(),
+        doc.map.rooms.len(),
+        doc.map.objects.len(),
+        kind_name(kind)
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn kind_name(kind: SourceKind) -> &'static str {
+    match kind {
+        SourceKind::Demo => "the built-in demo",
+        SourceKind::ProcthorHouse => "a ProcTHOR house",
+        SourceKind::Map2RouteMap => "a Map2Route map",
+    }
+}
+
+fn info(args: InfoArgs) -> Result<ExitCode> {
+    let (doc, _) = load(&args.source)?;
+    let map = &doc.map;
+    match args.format {
+        InfoFormat::Json => {
+            let text = serde_json::to_string_pretty(&info_json(map))
+                .context("cannot format the summary")?;
+            println!("{text}");
+        }
+        InfoFormat::Text => print!("{}", info_text(map)),
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn free_cells(map: &SemanticMap) -> usize {
+    map.occupancy
+        .data()
+        .iter()
+        .filter(|&&v| v == m2rc_stdlib::map::FREE)
+        .count()
+}
+
+fn info_json(map: &SemanticMap) -> serde_json::Value {
+    let adjacency = map.room_adjacency();
+    json!({
+        "map_id": map.map_id,
+        "grid_size": map.n(),
+        "resolution_m": map.resolution(),
+        "extent_m": map.n() as f64 * map.resolution(),
+        "free_cells": free_cells(map),
+        "start": map.start.map(|c| [c.row, c.col]),
+        "rooms": map.rooms.iter().map(|r| json!({
+            "id": r.id, "category": r.category, "name": r.name, "area_m2": r.area_m2,
+            "objects": map.objects_in_room(r.id).count(),
+            "neighbours": map.neighbours(r.id),
+        })).collect::<Vec<_>>(),
+        "object_count": map.objects.len(),
+        "categories": map.category_counts(),
+        "adjacency": adjacency.iter().map(|(a, b)| [a, b]).collect::<Vec<_>>(),
+    })
+}
+
+fn info_text(map: &SemanticMap) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let n = map.n();
+    let res = map.resolution();
+    let _ = writeln!(s, "map {}", map.map_id);
+    let _ = writeln!(
+        s,
+        "grid {n} x {n} cells at {res} m ({:.2} x {:.2} m), {} free cells",
+        n as f64 * res,
+        n as f64 * res,
+        free_cells(map)
+    );
+    if let Some(c) = map.start {
+        let _ = writeln!(s, "start [{}, {}]", c.row, c.col);
+    }
+    let _ = writeln!(s, "rooms {}", map.rooms.len());
+    for r in &map.rooms {
+        let _ = writeln!(
+            s,
+            "  {:>3}  {:<14} {:<16} {:>8.2} m2  {:>3} objects",
+            r.id,
+            r.category,
+            r.name,
+            r.area_m2,
+            map.objects_in_room(r.id).count()
+        );
+    }
+    let counts = map.category_counts();
+    let _ = writeln!(
+        s,
+        "objects {} in {} categories",
+        map.objects.len(),
+        counts.len()
+    );
+    let mut sorted: Vec<(&str, usize)> = counts.into_iter().collect();
+    sorted.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+    for chunk in sorted.chunks(4) {
+        let line: Vec<String> = chunk.iter().map(|(c, k)| format!("{c} {k}")).collect();
+        let _ = writeln!(s, "  {}", line.join(", "));
+    }
+    let adj = map.room_adjacency();
+    let _ = writeln!(s, "doorway adjacency {}", adj.len());
+    for (a, b) in adj {
+        let name = |id: u32| {
+            map.room(id)
+                .map_or_else(|| id.to_string(), |r| r.name.clone())
+        };
+        let _ = writeln!(s, "  {} - {}", name(a), name(b));
+    }
+    s
+}
+
+fn render(args: RenderArgs) -> Result<ExitCode> {
+    if args.output.is_none() && args.svg.is_none() {
+        bail!("nothing to write: pass -o out.png and/or --svg out.svg");
+    }
+    let (doc, _) = load(&args.source)?;
+    let opts = RenderOptions {
+        labels: args.labels,
+        ..RenderOptions::default()
+    };
+    let out = render_map(&doc.map, &opts)?;
+    if let Some(p) = &args.output {
+        write_atomic(p, &out.png)?;
+        eprintln!("wrote {}", p.display());
+    }
+    if let Some(p) = &args.svg {
+        write_atomic(p, out.svg.as_bytes())?;
+        eprintln!("wrote {}", p.display());
+    }
+    Ok(ExitCode::SUCCESS)
 }

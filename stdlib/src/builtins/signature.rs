@@ -47,7 +47,9 @@ impl Ty {
         }
         match self {
             Ty::KeyT => matches!(actual, Type::Fn(e, s) if t.is_subtype_of(e) && s != Scalar::Bool),
-            other => other.instantiate(t).is_some_and(|want| actual.is_subtype_of(want)),
+            other => other
+                .instantiate(t)
+                .is_some_and(|want| actual.is_subtype_of(want)),
         }
     }
 
@@ -66,7 +68,10 @@ impl Ty {
 
 /// Writes a union of alternatives, `Object | Set<Object>`.
 pub fn display_alternatives(alts: &[Ty], t: Option<Elem>) -> String {
-    alts.iter().map(|a| a.display(t)).collect::<Vec<_>>().join(" | ")
+    alts.iter()
+        .map(|a| a.display(t))
+        .collect::<Vec<_>>()
+        .join(" | ")
 }
 
 /// A default argument value, typed so that the grounding evaluator need not parse text.
@@ -164,7 +169,9 @@ impl Builtin {
 
     /// Binds `T` from the receiver's actual type, or `None` when this overload does not apply.
     pub fn bind_receiver(&self, actual: Type) -> Option<Elem> {
-        let Receiver::Method(alts) = self.receiver else { return Some(Elem::Place) };
+        let Receiver::Method(alts) = self.receiver else {
+            return Some(Elem::Place);
+        };
         let t = match actual {
             Type::Set(e) => e,
             other => other.as_place().unwrap_or(Elem::Place),

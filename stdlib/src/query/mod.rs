@@ -55,7 +55,14 @@ impl<'m> MapQuery<'m> {
         }
         let boundaries = map.objects.iter().map(|o| boundary(&o.footprint)).collect();
         let passages = rooms::find_passages(map, &traversable);
-        MapQuery { map, traversable, room_cells, boundaries, passages, thresholds: Thresholds::default() }
+        MapQuery {
+            map,
+            traversable,
+            room_cells,
+            boundaries,
+            passages,
+            thresholds: Thresholds::default(),
+        }
     }
 
     pub fn map(&self) -> &'m SemanticMap {
@@ -127,8 +134,14 @@ impl<'m> MapQuery<'m> {
     pub fn disk(&self, center: [f64; 2], radius_cells: f64) -> Vec<Cell> {
         let n = self.map.n() as i64;
         let r = radius_cells.max(0.0);
-        let (r0, r1) = ((center[0] - r).floor() as i64, (center[0] + r).ceil() as i64);
-        let (c0, c1) = ((center[1] - r).floor() as i64, (center[1] + r).ceil() as i64);
+        let (r0, r1) = (
+            (center[0] - r).floor() as i64,
+            (center[0] + r).ceil() as i64,
+        );
+        let (c0, c1) = (
+            (center[1] - r).floor() as i64,
+            (center[1] + r).ceil() as i64,
+        );
         let mut out = Vec::new();
         for row in r0.max(0)..=r1.min(n - 1) {
             for col in c0.max(0)..=c1.min(n - 1) {
@@ -144,13 +157,25 @@ impl<'m> MapQuery<'m> {
     /// The traversable cell nearest to the point (ties by row, then col), searching outward ring by
     /// ring and restricted to `allowed` when given; `None` when no such cell exists.
     pub fn nearest_traversable(&self, point: [f64; 2], allowed: Option<u32>) -> Option<Cell> {
+        self.nearest_traversable_where(point, allowed, |_| true)
+    }
+
+    /// [`MapQuery::nearest_traversable`] among the cells that also pass `keep`.
+    pub fn nearest_traversable_where(
+        &self,
+        point: [f64; 2],
+        allowed: Option<u32>,
+        keep: impl Fn(Cell) -> bool,
+    ) -> Option<Cell> {
         let n = self.map.n() as i64;
         if n == 0 {
             return None;
         }
         let pr = (point[0].round() as i64).clamp(0, n - 1);
         let pc = (point[1].round() as i64).clamp(0, n - 1);
-        let ok = |c: Cell| self.is_traversable(c) && allowed.is_none_or(|room| self.room_at(c) == room);
+        let ok = |c: Cell| {
+            self.is_traversable(c) && allowed.is_none_or(|room| self.room_at(c) == room) && keep(c)
+        };
         let mut best: Option<(f64, Cell)> = None;
         for ring in 0..n {
             // Once a candidate is known, rings farther than its distance cannot beat it.
@@ -169,7 +194,9 @@ impl<'m> MapQuery<'m> {
                         continue;
                     }
                     let d = (row as f64 - point[0]).hypot(col as f64 - point[1]);
-                    if best.is_none_or(|(bd, bc)| d < bd - 1e-12 || ((d - bd).abs() <= 1e-12 && cell < bc)) {
+                    if best.is_none_or(|(bd, bc)| {
+                        d < bd - 1e-12 || ((d - bd).abs() <= 1e-12 && cell < bc)
+                    }) {
                         best = Some((d, cell));
                     }
                 }
@@ -181,7 +208,9 @@ impl<'m> MapQuery<'m> {
 
 /// Footprint cells with a 4-neighbour outside the footprint (sorted input expected).
 fn boundary(cells: &[Cell]) -> Vec<Cell> {
-    let has = |r: i64, c: i64| r >= 0 && c >= 0 && cells.binary_search(&Cell::new(r as u32, c as u32)).is_ok();
+    let has = |r: i64, c: i64| {
+        r >= 0 && c >= 0 && cells.binary_search(&Cell::new(r as u32, c as u32)).is_ok()
+    };
     cells
         .iter()
         .copied()
@@ -192,5 +221,4 @@ fn boundary(cells: &[Cell]) -> Vec<Cell> {
         .collect()
 }
 
-#[cfg(test)]
-pub(crate) mod testmap;
+pub mod fixture;

@@ -69,11 +69,12 @@ pub fn trace_labels(
             push_cell_edges(r, c, |rr, cc| at(rr, cc) == Some(l), &mut tmp);
             if !tmp.is_empty() {
                 let v = by_label.entry(l).or_default();
-                v.extend(
-                    tmp.iter().map(|&((x0, y0), (x1, y1))| {
-                        ((x0 + origin.1, y0 + origin.0), (x1 + origin.1, y1 + origin.0))
-                    }),
-                );
+                v.extend(tmp.iter().map(|&((x0, y0), (x1, y1))| {
+                    (
+                        (x0 + origin.1, y0 + origin.0),
+                        (x1 + origin.1, y1 + origin.0),
+                    )
+                }));
             }
         }
     }
@@ -212,7 +213,10 @@ mod tests {
         let a1: i64 = out[&1].iter().map(|l| area2(l)).sum();
         let a2: i64 = out[&2].iter().map(|l| area2(l)).sum();
         assert_eq!((a1, a2), (6, 4));
-        assert!(out[&2][0].contains(&(23, 10)), "origin offsets x by col and y by row");
+        assert!(
+            out[&2][0].contains(&(23, 10)),
+            "origin offsets x by col and y by row"
+        );
     }
 
     #[test]

@@ -43,8 +43,10 @@ pub const BACKGROUND: &str = "#ffffff";
 pub const OUTSIDE: &str = "#ececec";
 /// Free cells outside every room.
 pub const FREE_NO_ROOM: &str = "#fafafa";
-/// Obstacle cells inside a room that no drawn object explains.
-pub const OBSTACLE: &str = "#7a7a7a";
+/// Obstacle cells inside a room (furniture and the robot-radius margin around walls and
+/// furniture), drawn as a translucent shade so the room tint still shows through.
+pub const OBSTACLE: &str = "#3c3c3c";
+pub const OBSTACLE_OPACITY: f64 = 0.2;
 pub const UNKNOWN: &str = "#b0b0b0";
 pub const WALL: &str = "#2b2b2b";
 pub const DOORWAY: &str = "#1fa64a";

@@ -1,0 +1,77 @@
+//! Route methods behind one trait, so the runner can score any of them the same way.
+//!
+//! * `oracle`: the episode's gold `.m2r` program, compiled and planned by m2rc: what the
+//!   compiler achieves when the language step is perfect.
+//! * `hard-only`: the gold program with every `prefer` removed: the value of the preferences.
+//! * `shortest`: the shortest legal route through the annotated targets (no program at all).
+//!
+//! Human demonstrations are not available for generated suites, so there is no `human` method.
+
+pub mod oracle;
+pub mod shortest;
+
+use crate::episode::Episode;
+use m2rc_stdlib::grid::Cell;
+use m2rc_stdlib::map::SemanticMap;
+
+/// Why a method produced no route for an episode. The runner still scores the episode (with
+/// the start cell as the route), so failures cost metrics instead of vanishing from the table.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct MethodError(pub String);
+
+/// A method's answer for one episode.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Prediction {
+    pub trajectory: Vec<Cell>,
+    /// The program the method ran, when it has one.
+    pub program: Option<String>,
+    /// Warnings worth keeping in the prediction record.
+    pub notes: Vec<String>,
+}
+
+pub trait Method: Send + Sync {
+    /// The name used on the command line, in prediction records and in report rows.
+    fn name(&self) -> &str;
+    fn predict(&self, map: &SemanticMap, episode: &Episode) -> Result<Prediction, MethodError>;
+}
+
+/// Names accepted by [`method_by_name`].
+pub const METHOD_NAMES: &[&str] = &["oracle", "shortest", "hard-only"];
+
+pub fn method_by_name(name: &str) -> Option<Box<dyn Method>> {
+    match name {
+        "oracle" => Some(Box::new(oracle::Oracle { soft: true })),
+        "hard-only" => Some(Box::new(oracle::Oracle { soft: false })),
+        "shortest" => Some(Box::new(shortest::Shortest)),
+        _ => None,
+    }
+}
+
+/// The episode's start cell: `start_pose`, else the first expert waypoint, else the centre of the
+/// record (first must-pass) region.
+pub fn start_cell(map: &SemanticMap, episode: &Episode) -> Result<Cell, MethodError> {
+    let n = map.n() as i64;
+    let in_grid = |r: i64, c: i64| (0..n).contains(&r) && (0..n).contains(&c);
+    if let Some(p) = &episode.start_pose
+        && let (Some(r), Some(c)) = (p.row, p.col)
+    {
+        if in_grid(r, c) {
+            return Ok(Cell::new(r as u32, c as u32));
+        }
+        return Err(MethodError(format!(
+            "start_pose [{r}, {c}] is outside the {n}x{n} map"
+        )));
+    }
+    if let Some(first) = episode
+        .human_expert_trajectory
+        .as_ref()
+        .and_then(|t| t.first())
+        && in_grid(first[0], first[1])
+    {
+        return Ok(Cell::new(first[0] as u32, first[1] as u32));
+    }
+    Err(MethodError(
+        "the episode has no start_pose and no expert trajectory".into(),
+    ))
+}

@@ -1,0 +1,201 @@
+//! The whole compile path for one program on one map: check, ground, verify, plan, and re-bind the
+//! route-dependent places against the planned route until the binding is stable.
+//!
+//! Route-dependent places (`room_before_entering(k)`, `doorway_leaving(r)`, ...) are first bound to
+//! the shortest traversable path, the route is planned, the program is grounded again against that
+//! route, and, when the grounding changed (a different room, hence different masks or costs), the
+//! route is planned again, for at most [`PipelineOptions::max_rounds`] plans. It lives here, above
+//! both the compiler and the planner, because it needs both; `m2rc compile` and the benchmark's
+//! oracle method call it.
+
+use m2rc_compiler::check::check;
+use m2rc_compiler::diagnostic::{Code, Diagnostic, Severity};
+use m2rc_compiler::eval::{GroundOptions, ground_checked};
+use m2rc_compiler::ir::{Constraint, RouteIr, Stage};
+use m2rc_compiler::verify::verify;
+use m2rc_grammar::ast::Span;
+use m2rc_planner::lower::{lower, span_of};
+use m2rc_planner::{CostProfile, PlannedRoute, PlannerKind, plan};
+use m2rc_stdlib::grid::Cell;
+use m2rc_stdlib::map::SemanticMap;
+use m2rc_stdlib::query::MapQuery;
+use m2rc_stdlib::vocab::Vocabulary;
+
+#[derive(Clone, Debug)]
+pub struct PipelineOptions {
+    pub planner: PlannerKind,
+    pub profile: CostProfile,
+    /// Start cell; the map's own start when `None`.
+    pub start: Option<Cell>,
+    /// Most plans made while re-binding route-dependent places.
+    pub max_rounds: usize,
+}
+
+impl Default for PipelineOptions {
+    fn default() -> Self {
+        PipelineOptions {
+            planner: PlannerKind::Sequential,
+            profile: CostProfile::default(),
+            start: None,
+            max_rounds: 4,
+        }
+    }
+}
+
+/// A compiled program: the final RouteIR, the route planned for it, and the warnings.
+#[derive(Clone, Debug)]
+pub struct CompiledRoute {
+    pub ir: RouteIr,
+    pub route: PlannedRoute,
+    /// Warnings of every phase (errors abort compilation).
+    pub warnings: Vec<Diagnostic>,
+    /// Plans made (1 unless the program has route-dependent places).
+    pub rounds: usize,
+    /// Whether grounding against the final route reproduced the IR the route was planned from.
+    pub stable: bool,
+}
+
+/// Compiles `source` on `map` into a planned route, or every diagnostic that prevents it.
+pub fn compile_and_plan(
+    source: &str,
+    map: &SemanticMap,
+    opts: &PipelineOptions,
+) -> Result<CompiledRoute, Vec<Diagnostic>> {
+    let vocab = Vocabulary::from_map(map);
+    let checked = check(source, &vocab);
+    let mut warnings: Vec<Diagnostic> = checked
+        .diagnostics
+        .iter()
+        .filter(|d| !d.is_error())
+        .cloned()
+        .collect();
+    if checked.has_errors() {
+        return Err(checked.diagnostics);
+    }
+    let q = MapQuery::new(map);
+    let mut route: Option<Vec<Cell>> = None;
+    let mut last: Option<(RouteIr, PlannedRoute)> = None;
+    let mut rounds = 0;
+    loop {
+        let g = ground_checked(
+            &checked,
+            source,
+            &q,
+            &GroundOptions {
+                start: opts.start,
+                route: route.take(),
+            },
+        );
+        let mut diags: Vec<Diagnostic> = g
+            .problems
+            .into_iter()
+            .map(|p| p.into_diagnostic())
+            .collect();
+        let ir = match g.ir {
+            Some(ir) if !diags.iter().any(Diagnostic::is_error) => ir,
+            _ => return Err(with_warnings(diags, &warnings)),
+        };
+        diags.extend(verify(&ir, &q).into_iter().map(|p| p.into_diagnostic()));
+        if diags.iter().any(Diagnostic::is_error) {
+            return Err(with_warnings(diags, &warnings));
+        }
+        merge(&mut warnings, diags);
+        if let Some((prev_ir, prev_route)) = last.take() {
+            if same_grounding(&prev_ir, &ir) {
+                return Ok(CompiledRoute {
+                    ir,
+                    route: prev_route,
+                    warnings,
+                    rounds,
+                    stable: true,
+                });
+            }
+            if rounds >= opts.max_rounds.max(1) {
+                return Ok(CompiledRoute {
+                    ir: prev_ir,
+                    route: prev_route,
+                    warnings,
+                    rounds,
+                    stable: false,
+                });
+            }
+        }
+        let problem = lower(&ir, map, opts.profile.clone()).map_err(|m| {
+            with_warnings(
+                vec![Diagnostic::new(Code::MalformedIr, Span::default(), m)],
+                &warnings,
+            )
+        })?;
+        let planned = plan(&problem, opts.planner);
+        rounds += 1;
+        if !planned.is_success() {
+            return Err(with_warnings(vec![plan_failure(&ir, &planned)], &warnings));
+        }
+        if ir.route_bindings.is_empty() {
+            return Ok(CompiledRoute {
+                ir,
+                route: planned,
+                warnings,
+                rounds,
+                stable: true,
+            });
+        }
+        route = Some(planned.trajectory.clone());
+        last = Some((ir, planned));
+    }
+}
+
+/// Equal stages and constraints (the binding records differ only in what they were read from).
+fn same_grounding(a: &RouteIr, b: &RouteIr) -> bool {
+    let key = |s: &[Stage], c: &[Constraint]| (s.to_vec(), c.to_vec());
+    key(&a.stages, &a.constraints) == key(&b.stages, &b.constraints)
+}
+
+fn merge(into: &mut Vec<Diagnostic>, more: Vec<Diagnostic>) {
+    for d in more {
+        if !into.contains(&d) {
+            into.push(d);
+        }
+    }
+}
+
+fn with_warnings(mut diags: Vec<Diagnostic>, warnings: &[Diagnostic]) -> Vec<Diagnostic> {
+    merge(&mut diags, warnings.to_vec());
+    m2rc_compiler::diagnostic::sort(&mut diags);
+    diags
+}
+
+/// A planning failure as a diagnostic pointing at the stage (and the avoid regions) responsible.
+fn plan_failure(ir: &RouteIr, planned: &PlannedRoute) -> Diagnostic {
+    let Some(f) = &planned.failure else {
+        return Diagnostic::new(Code::TargetUnreachable, Span::default(), "planning failed");
+    };
+    let code = Code::from_id(f.code()).unwrap_or(Code::TargetUnreachable);
+    let span = f
+        .target()
+        .and_then(|o| span_of(ir, o))
+        .map_or(Span::default(), |s| s.span());
+    let mut d = Diagnostic::new(code, span, f.to_string());
+    d.severity = Severity::Error;
+    for o in f.forbids() {
+        if let Some(s) = span_of(ir, *o) {
+            d = d.label(s.span(), "this avoid region blocks the way");
+        }
+    }
+    d.note(format!(
+        "planner `{}`; reference failure code {}",
+        planned.planner,
+        f.reference_code()
+    ))
+}
+
+/// Index into the trajectory where each stage (segment) ends.
+pub fn stage_ends(route: &PlannedRoute) -> Vec<usize> {
+    let mut out = Vec::new();
+    let mut at = 0usize;
+    for s in &route.segments {
+        at += s.path.len().saturating_sub(1);
+        out.push(at);
+    }
+    out
+}

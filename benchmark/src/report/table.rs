@@ -1,0 +1,217 @@
+//! The paper's Table I: one row per method, an Easy and a Hard block of HCS, Near, Far, Relative,
+//! Path-Shape, Clearance, PL and SPL, aggregated as the reference does (C.7): plain means of the
+//! episode HCS, PL and segment-wise SPL; for each soft metric, the mean over the episodes that
+//! have a finite value of the per-episode mean.
+
+use super::MethodRun;
+use serde::Serialize;
+use serde_json::Value;
+
+/// Column keys, in table order.
+pub const KEYS: [&str; 8] = [
+    "HCS",
+    "Near",
+    "Far",
+    "Relative",
+    "PathShape",
+    "Clearance",
+    "PL",
+    "SPL",
+];
+
+/// The soft keys of a record's `soft_episode_values`, matching `KEYS[1..6]`.
+pub const SOFT_KEYS: [&str; 5] = ["near", "far", "relative", "path_shape", "clearance"];
+
+/// One block (easy, hard or overall) of one method. `None` when no episode has a value.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Block {
+    #[serde(rename = "HCS")]
+    pub hcs: Option<f64>,
+    #[serde(rename = "Near")]
+    pub near: Option<f64>,
+    #[serde(rename = "Far")]
+    pub far: Option<f64>,
+    #[serde(rename = "Relative")]
+    pub relative: Option<f64>,
+    #[serde(rename = "PathShape")]
+    pub path_shape: Option<f64>,
+    #[serde(rename = "Clearance")]
+    pub clearance: Option<f64>,
+    #[serde(rename = "PL")]
+    pub pl: Option<f64>,
+    #[serde(rename = "SPL")]
+    pub spl: Option<f64>,
+    /// Episodes in the block (not part of the JSON table, whose blocks hold exactly the eight keys).
+    #[serde(skip)]
+    pub episodes: usize,
+}
+
+impl Block {
+    pub fn get(&self, key: &str) -> Option<f64> {
+        match key {
+            "HCS" => self.hcs,
+            "Near" => self.near,
+            "Far" => self.far,
+            "Relative" => self.relative,
+            "PathShape" => self.path_shape,
+            "Clearance" => self.clearance,
+            "PL" => self.pl,
+            "SPL" => self.spl,
+            _ => None,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct MethodRow {
+    pub method: String,
+    pub easy: Block,
+    pub hard: Block,
+    pub overall: Block,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Table {
+    pub methods: Vec<MethodRow>,
+}
+
+fn finite(v: Option<&Value>) -> Option<f64> {
+    v.and_then(Value::as_f64).filter(|x| x.is_finite())
+}
+
+fn mean(values: &[f64]) -> Option<f64> {
+    (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
+}
+
+/// Aggregates a set of prediction records into one block.
+pub fn block<'a>(records: impl Iterator<Item = &'a Value>) -> Block {
+    let mut hcs = Vec::new();
+    let mut pl = Vec::new();
+    let mut spl = Vec::new();
+    let mut soft: [Vec<f64>; 5] = Default::default();
+    let mut episodes = 0;
+    for r in records {
+        episodes += 1;
+        let s = r.get("metrics_summary");
+        if let Some(x) = finite(s.and_then(|s| s.get("HCS"))) {
+            hcs.push(x);
+        }
+        if let Some(x) = finite(s.and_then(|s| s.get("PL"))) {
+            pl.push(x);
+        }
+        if let Some(x) = finite(s.and_then(|s| s.get("segment_wise_SPL"))) {
+            spl.push(x);
+        }
+        for (k, key) in SOFT_KEYS.iter().enumerate() {
+            if let Some(x) = finite(r.get("soft_episode_values").and_then(|v| v.get(key))) {
+                soft[k].push(x);
+            }
+        }
+    }
+    Block {
+        hcs: mean(&hcs),
+        near: mean(&soft[0]),
+        far: mean(&soft[1]),
+        relative: mean(&soft[2]),
+        path_shape: mean(&soft[3]),
+        clearance: mean(&soft[4]),
+        pl: mean(&pl),
+        spl: mean(&spl),
+        episodes,
+    }
+}
+
+pub fn difficulty(r: &Value) -> &str {
+    r.get("difficulty_level")
+        .and_then(Value::as_str)
+        .unwrap_or("unknown")
+}
+
+pub fn table(runs: &[MethodRun]) -> Table {
+    Table {
+        methods: runs
+            .iter()
+            .map(|run| MethodRow {
+                method: run.method.clone(),
+                easy: block(run.records.iter().filter(|r| difficulty(r) == "easy")),
+                hard: block(run.records.iter().filter(|r| difficulty(r) == "hard")),
+                overall: block(run.records.iter()),
+            })
+            .collect(),
+    }
+}
+
+fn cell(v: Option<f64>) -> String {
+    v.map(|x| format!("{x:.3}")).unwrap_or_else(|| "–".into())
+}
+
+const NOTE: &str = "Human demonstrations are not available for m2rc-generated suites, so there is no Human row; \
+Near, Far, Clearance and PL are in metres (Near: lower is better), Relative is the distance ratio D_B/D_A, \
+Path-Shape is nDTW, SPL is the segment-wise SPL.";
+
+pub fn markdown(t: &Table) -> String {
+    let mut out = String::new();
+    out.push_str("| Method | Easy HCS↑ | Near↓ | Far↑ | Rel.↑ | Shape↑ | Clear.↑ | PL | SPL↑ | Hard HCS↑ | Near↓ | Far↑ | Rel.↑ | Shape↑ | Clear.↑ | PL | SPL↑ |\n");
+    out.push_str("|---|");
+    out.push_str(&"---:|".repeat(16));
+    out.push('\n');
+    for row in &t.methods {
+        out.push_str(&format!("| {} |", row.method));
+        for b in [&row.easy, &row.hard] {
+            for k in KEYS {
+                out.push_str(&format!(" {} |", cell(b.get(k))));
+            }
+        }
+        out.push('\n');
+    }
+    let counts: Vec<String> = t
+        .methods
+        .iter()
+        .map(|r| {
+            format!(
+                "{}: {} easy + {} hard",
+                r.method, r.easy.episodes, r.hard.episodes
+            )
+        })
+        .collect();
+    out.push_str(&format!("\nEpisodes — {}.\n\n{NOTE}\n", counts.join("; ")));
+    out
+}
+
+pub fn csv(t: &Table) -> String {
+    let mut out = String::from("method,block,episodes");
+    for k in KEYS {
+        out.push(',');
+        out.push_str(k);
+    }
+    out.push('\n');
+    for row in &t.methods {
+        for (name, b) in [
+            ("easy", &row.easy),
+            ("hard", &row.hard),
+            ("overall", &row.overall),
+        ] {
+            out.push_str(&format!("{},{name},{}", csv_field(&row.method), b.episodes));
+            for k in KEYS {
+                out.push(',');
+                if let Some(x) = b.get(k) {
+                    out.push_str(&format!("{x}"));
+                }
+            }
+            out.push('\n');
+        }
+    }
+    out
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+pub fn json(t: &Table) -> String {
+    serde_json::to_string_pretty(t).expect("table serializes")
+}

@@ -1,0 +1,516 @@
+//! Runs a method over a suite and writes one prediction record per episode, in the reference's
+//! prediction layout (`<out>/<map_id>/instruction_<id:06>.json`).
+//!
+//! * Parallel across episodes (rayon); maps are loaded once each, on first use.
+//! * Every record is written atomically, so a crash or kill leaves only whole records; a resumed
+//!   run skips episodes whose record exists and parses, and since methods and the evaluator are
+//!   deterministic the final directory is the same as an uninterrupted run's.
+//! * `--shard k/N` takes the episodes whose position in the suite manifest is `k-1` modulo `N`,
+//!   so a job array (Slurm `$SLURM_ARRAY_TASK_ID`, a Kubernetes indexed Job) can split a suite
+//!   with no coordination; [`merge`] combines the shard directories.
+
+use crate::episode::Episode;
+use crate::methods::{Method, start_cell};
+use crate::metrics::map::EvalMap;
+use crate::suite::{EpisodeEntry, SuiteManifest};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use m2rc_stdlib::grid::Cell;
+use m2rc_stdlib::map::SemanticMap;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use serde_json::{Value, json};
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// Name of the run manifest inside a run directory.
+pub const RUN_MANIFEST: &str = "run.json";
+
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{0}")]
+    Invalid(String),
+}
+
+fn io_err(path: &Path, source: std::io::Error) -> RunError {
+    RunError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// `k/N`: this process runs shard k (1-based) of N.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Shard, String> {
+        let (k, n) = s
+            .split_once('/')
+            .ok_or_else(|| format!("shard `{s}` is not of the form k/N, e.g. 2/8"))?;
+        let index: usize = k
+            .trim()
+            .parse()
+            .map_err(|_| format!("shard `{s}`: `{k}` is not a number"))?;
+        let count: usize = n
+            .trim()
+            .parse()
+            .map_err(|_| format!("shard `{s}`: `{n}` is not a number"))?;
+        if count == 0 || index == 0 || index > count {
+            return Err(format!("shard `{s}`: need 1 <= k <= N"));
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    pub suite: PathBuf,
+    pub out: PathBuf,
+    pub shard: Option<Shard>,
+    /// `eval` (the default, the paper's evaluation scenes), `dev` or `all`.
+    pub split: String,
+    /// Show a progress bar (the caller decides: TTY and not CI).
+    pub progress: bool,
+}
+
+/// What a run directory holds; written before any record so that mixing methods is refused.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunManifest {
+    pub method: String,
+    pub suite: String,
+    pub suite_name: String,
+    pub split: String,
+    pub shard: Option<Shard>,
+    /// Episodes this run (or shard) covers.
+    pub episodes: usize,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct RunSummary {
+    pub episodes: usize,
+    /// Records already present and valid (resumed).
+    pub skipped: usize,
+    pub written: usize,
+    /// Episodes where the method returned no route (scored with the start cell only).
+    pub method_failures: usize,
+}
+
+/// The episodes of a suite a run covers, in manifest order.
+pub fn select_episodes<'a>(
+    manifest: &'a SuiteManifest,
+    split: &str,
+    shard: Option<Shard>,
+) -> Vec<&'a EpisodeEntry> {
+    manifest
+        .episodes
+        .iter()
+        .filter(|e| split == "all" || e.split == split)
+        .enumerate()
+        .filter(|(i, _)| shard.is_none_or(|s| i % s.count == s.index - 1))
+        .map(|(_, e)| e)
+        .collect()
+}
+
+pub fn record_path(out: &Path, map_id: &str, instruction_id: &str) -> PathBuf {
+    out.join(map_id).join(format!("{instruction_id}.json"))
+}
+
+/// Whether a finished, well-formed record exists at `path`.
+pub fn record_is_complete(path: &Path) -> bool {
+    std::fs::read(path)
+        .ok()
+        .and_then(|b| serde_json::from_slice::<Value>(&b).ok())
+        .is_some_and(|v| {
+            v.get("metrics_summary").is_some_and(Value::is_object)
+                && v.get("trajectory").is_some_and(Value::is_array)
+        })
+}
+
+pub fn run(method: &dyn Method, opts: &RunOptions) -> Result<RunSummary, RunError> {
+    if !["eval", "dev", "all"].contains(&opts.split.as_str()) {
+        return Err(RunError::Invalid(format!(
+            "split `{}` is not one of eval, dev, all",
+            opts.split
+        )));
+    }
+    let manifest =
+        SuiteManifest::read(&opts.suite).map_err(|e| RunError::Invalid(e.to_string()))?;
+    let episodes = select_episodes(&manifest, &opts.split, opts.shard);
+    let run_manifest = RunManifest {
+        method: method.name().to_string(),
+        suite: opts.suite.display().to_string(),
+        suite_name: manifest.config.name.clone(),
+        split: opts.split.clone(),
+        shard: opts.shard,
+        episodes: episodes.len(),
+    };
+    check_or_write_run_manifest(&opts.out, &run_manifest)?;
+
+    let maps: BTreeMap<&str, OnceLock<Result<Arc<LoadedMap>, String>>> = manifest
+        .scenes
+        .iter()
+        .map(|s| (s.map_id.as_str(), OnceLock::new()))
+        .collect();
+    let bar = progress_bar(episodes.len() as u64, opts.progress, method.name());
+    let summary = Mutex::new(RunSummary {
+        episodes: episodes.len(),
+        ..RunSummary::default()
+    });
+    let first_error: Mutex<Option<RunError>> = Mutex::new(None);
+    episodes.par_iter().for_each(|entry| {
+        let result = run_one(method, opts, &manifest, &maps, entry);
+        let mut s = summary.lock().expect("summary lock");
+        match result {
+            Ok(Outcome::Skipped) => s.skipped += 1,
+            Ok(Outcome::Written { method_failed }) => {
+                s.written += 1;
+                s.method_failures += method_failed as usize;
+            }
+            Err(e) => {
+                let mut slot = first_error.lock().expect("error lock");
+                if slot.is_none() {
+                    *slot = Some(e);
+                }
+            }
+        }
+        bar.inc(1);
+    });
+    bar.finish_and_clear();
+    if let Some(e) = first_error.into_inner().expect("error lock") {
+        return Err(e);
+    }
+    Ok(summary.into_inner().expect("summary lock"))
+}
+
+enum Outcome {
+    Skipped,
+    Written { method_failed: bool },
+}
+
+fn run_one(
+    method: &dyn Method,
+    opts: &RunOptions,
+    manifest: &SuiteManifest,
+    maps: &BTreeMap<&str, OnceLock<Result<Arc<LoadedMap>, String>>>,
+    entry: &EpisodeEntry,
+) -> Result<Outcome, RunError> {
+    let out_path = record_path(&opts.out, &entry.map_id, &entry.instruction_id);
+    if record_is_complete(&out_path) {
+        return Ok(Outcome::Skipped);
+    }
+    let map = maps
+        .get(entry.map_id.as_str())
+        .ok_or_else(|| {
+            RunError::Invalid(format!(
+                "episode {} names unknown map {}",
+                entry.file, entry.map_id
+            ))
+        })?
+        .get_or_init(|| load_suite_map(manifest, &opts.suite, &entry.map_id))
+        .clone()
+        .map_err(RunError::Invalid)?;
+    let ep_path = opts.suite.join(&entry.file);
+    let episode = Episode::read(&ep_path).map_err(|e| RunError::Invalid(e.to_string()))?;
+    let record = predict_and_score(method, &map.map, &map.eval, &episode, &entry.map_id);
+    let method_failed = record.get("status").and_then(Value::as_str) != Some("ok");
+    let bytes = serde_json::to_vec(&record).expect("record serializes");
+    write_atomic(&out_path, &bytes).map_err(|e| io_err(&out_path, e))?;
+    Ok(Outcome::Written { method_failed })
+}
+
+/// A scene's map and the evaluator's view of it, built once per scene.
+pub struct LoadedMap {
+    pub map: SemanticMap,
+    pub eval: EvalMap,
+}
+
+fn load_suite_map(
+    manifest: &SuiteManifest,
+    suite: &Path,
+    map_id: &str,
+) -> Result<Arc<LoadedMap>, String> {
+    let path = manifest
+        .map_path(suite, map_id)
+        .ok_or_else(|| format!("suite has no map {map_id}"))?;
+    let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let map = m2rc_stdlib::map::read_map_json(&bytes, &path.display().to_string())
+        .map_err(|e| e.to_string())?;
+    let eval = EvalMap::from_semantic_map(&map);
+    Ok(Arc::new(LoadedMap { map, eval }))
+}
+
+/// Runs the method on one episode and scores its route: the full prediction record.
+pub fn predict_and_score(
+    method: &dyn Method,
+    map: &SemanticMap,
+    eval: &EvalMap,
+    episode: &Episode,
+    map_dir: &str,
+) -> Value {
+    let (trajectory, status, error, program, notes) = match method.predict(map, episode) {
+        Ok(p) if !p.trajectory.is_empty() => (p.trajectory, "ok", None, p.program, p.notes),
+        Ok(p) => (
+            fallback_route(map, episode),
+            "empty_route",
+            None,
+            p.program,
+            p.notes,
+        ),
+        Err(e) => (
+            fallback_route(map, episode),
+            "method_error",
+            Some(e.0),
+            None,
+            vec![],
+        ),
+    };
+    let traj: Vec<[i64; 2]> = trajectory
+        .iter()
+        .map(|c| [c.row as i64, c.col as i64])
+        .collect();
+    let scored = crate::report::score::score(&traj, episode, eval);
+    let generation = episode.m2rc_generation.as_ref();
+    let meta = |k: &str| {
+        generation
+            .and_then(|g| g.extra.get(k))
+            .cloned()
+            .unwrap_or(Value::Null)
+    };
+    json!({
+        "method": method.name(),
+        "map_id": episode.map_id,
+        "map_dir": map_dir,
+        "instruction_id": episode.instruction_id(),
+        "difficulty_level": episode.difficulty_level,
+        "status": status,
+        "error": error,
+        "notes": notes,
+        "program": program,
+        "episode_factors": {
+            "max_depth": meta("max_depth"),
+            "max_candidates": meta("max_candidates"),
+            "hard_constraints": episode.hard_constraints.len().saturating_sub(1),
+        },
+        "metrics": scored.metrics,
+        "metrics_summary": scored.summary,
+        "soft_episode_values": scored.soft_values,
+        "trajectory": traj,
+    })
+}
+
+fn fallback_route(map: &SemanticMap, episode: &Episode) -> Vec<Cell> {
+    start_cell(map, episode)
+        .map(|c| vec![c])
+        .unwrap_or_else(|_| vec![Cell::new(0, 0)])
+}
+
+fn check_or_write_run_manifest(out: &Path, m: &RunManifest) -> Result<(), RunError> {
+    let path = out.join(RUN_MANIFEST);
+    if let Ok(bytes) = std::fs::read(&path) {
+        let old: RunManifest = serde_json::from_slice(&bytes).map_err(|e| {
+            RunError::Invalid(format!("{}: not a run manifest: {e}", path.display()))
+        })?;
+        if old.method != m.method
+            || old.suite_name != m.suite_name
+            || old.shard != m.shard
+            || old.split != m.split
+        {
+            return Err(RunError::Invalid(format!(
+                "{} already holds a run of method `{}` on suite `{}` (split {}, shard {:?}); use another --out",
+                out.display(),
+                old.method,
+                old.suite_name,
+                old.split,
+                old.shard.map(|s| s.to_string())
+            )));
+        }
+        return Ok(());
+    }
+    let bytes = serde_json::to_vec_pretty(m).expect("manifest serializes");
+    write_atomic(&path, &bytes).map_err(|e| io_err(&path, e))
+}
+
+pub fn read_run_manifest(dir: &Path) -> Result<RunManifest, RunError> {
+    let path = dir.join(RUN_MANIFEST);
+    let bytes = std::fs::read(&path).map_err(|e| io_err(&path, e))?;
+    serde_json::from_slice(&bytes)
+        .map_err(|e| RunError::Invalid(format!("{}: not a run manifest: {e}", path.display())))
+}
+
+/// Every prediction record of a run directory, sorted by (map directory, instruction id).
+pub fn read_records(dir: &Path) -> Result<Vec<Value>, RunError> {
+    let mut files: Vec<PathBuf> = Vec::new();
+    let entries = std::fs::read_dir(dir).map_err(|e| io_err(dir, e))?;
+    for entry in entries.flatten() {
+        let p = entry.path();
+        if p.is_dir() {
+            for f in std::fs::read_dir(&p).map_err(|e| io_err(&p, e))?.flatten() {
+                let name = f.file_name().to_string_lossy().to_string();
+                if name.starts_with("instruction_") && name.ends_with(".json") {
+                    files.push(f.path());
+                }
+            }
+        }
+    }
+    files.sort();
+    files
+        .iter()
+        .map(|f| {
+            let bytes = std::fs::read(f).map_err(|e| io_err(f, e))?;
+            serde_json::from_slice(&bytes).map_err(|e| {
+                RunError::Invalid(format!("{}: not a prediction record: {e}", f.display()))
+            })
+        })
+        .collect()
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct MergeSummary {
+    pub shards: usize,
+    pub records: usize,
+    /// Records present in more than one shard with identical content.
+    pub duplicates: usize,
+}
+
+/// Combines shard run directories of one method and suite into `out`. Records are copied
+/// byte-for-byte; a record present in two shards must be identical.
+pub fn merge(shards: &[PathBuf], out: &Path) -> Result<MergeSummary, RunError> {
+    let mut first: Option<RunManifest> = None;
+    let mut summary = MergeSummary {
+        shards: shards.len(),
+        ..MergeSummary::default()
+    };
+    let mut total = 0usize;
+    for dir in shards {
+        let m = read_run_manifest(dir)?;
+        if let Some(f) = &first {
+            if f.method != m.method || f.suite_name != m.suite_name || f.split != m.split {
+                return Err(RunError::Invalid(format!(
+                    "{} is a run of `{}` on `{}` ({}), but {} is `{}` on `{}` ({})",
+                    dir.display(),
+                    m.method,
+                    m.suite_name,
+                    m.split,
+                    shards[0].display(),
+                    f.method,
+                    f.suite_name,
+                    f.split
+                )));
+            }
+        } else {
+            first = Some(m.clone());
+        }
+        total += m.episodes;
+        for entry in std::fs::read_dir(dir)
+            .map_err(|e| io_err(dir, e))?
+            .flatten()
+        {
+            let sub = entry.path();
+            if !sub.is_dir() {
+                continue;
+            }
+            let map_dir = entry.file_name();
+            for f in std::fs::read_dir(&sub)
+                .map_err(|e| io_err(&sub, e))?
+                .flatten()
+            {
+                let name = f.file_name().to_string_lossy().to_string();
+                if !(name.starts_with("instruction_") && name.ends_with(".json")) {
+                    continue;
+                }
+                let bytes = std::fs::read(f.path()).map_err(|e| io_err(&f.path(), e))?;
+                let target = out.join(&map_dir).join(&name);
+                if let Ok(existing) = std::fs::read(&target) {
+                    if existing != bytes {
+                        return Err(RunError::Invalid(format!(
+                            "{} differs from the record already merged at {}",
+                            f.path().display(),
+                            target.display()
+                        )));
+                    }
+                    summary.duplicates += 1;
+                    continue;
+                }
+                write_atomic(&target, &bytes).map_err(|e| io_err(&target, e))?;
+                summary.records += 1;
+            }
+        }
+    }
+    let Some(mut m) = first else {
+        return Err(RunError::Invalid("no shard directories given".into()));
+    };
+    m.shard = None;
+    m.episodes = total;
+    let path = out.join(RUN_MANIFEST);
+    write_atomic(
+        &path,
+        &serde_json::to_vec_pretty(&m).expect("manifest serializes"),
+    )
+    .map_err(|e| io_err(&path, e))?;
+    Ok(summary)
+}
+
+fn progress_bar(len: u64, show: bool, label: &str) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(
+        Some(len),
+        if show {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    );
+    if let Ok(style) =
+        ProgressStyle::with_template("{prefix:>10} [{bar:30}] {pos}/{len} episodes ({eta} left)")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_prefix(label.to_string());
+    bar
+}
+
+/// Writes `bytes` to `path` atomically (temporary file in the same directory, fsync, rename), so
+/// an interrupted run never leaves a half-written file that a resumed run would trust.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    std::fs::create_dir_all(dir)?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let tmp = dir.join(format!(
+        ".{name}.tmp{}.{:?}",
+        std::process::id(),
+        std::thread::current().id()
+    ));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}

@@ -1,0 +1,909 @@
+//! Episode generation on one scene: destinations with unique descriptions, must-avoid rooms,
+//! stage-scoped preferences of the five kinds, and from that one plan the instruction text, the
+//! ground-truth annotation (Map2Route instruction JSON) and the gold `.m2r` program.
+//!
+//! An episode is kept only if its reference route exists: the shortest legal route through the
+//! targets that never touches an active must-avoid. Compiler-side validity (unique grounding,
+//! HCS = 1 of the gold program's own route) is checked afterwards by `suite::validate`.
+
+use super::index::{MapIndex, category_words};
+use super::paths::{Leg, chain_legs};
+use super::refs::{
+    DescriptionMemo, ObjRef, RoomRef, describe, pick_description, room_descriptions,
+};
+use super::text::{self, Position};
+use crate::episode::{GENERATION_KEY, GOLD_PROGRAM_KEY};
+use m2rc_stdlib::grid::Cell;
+use rand::seq::{IndexedRandom, SliceRandom};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use serde_json::{Value, json};
+use std::collections::BTreeMap;
+
+/// Minimum spacing of consecutive destinations, cells (Map2Route `TEMPLATE_MIN_DISTANCE`).
+const MIN_TARGET_SPACING: f64 = 40.0;
+/// Radius of the start (record) region, cells.
+const START_RADIUS: f64 = 3.0;
+const ATTEMPTS: usize = 60;
+/// Fixed timestamp so that a suite is byte-identical from its seed.
+const TIMESTAMP: &str = "2026-01-01T00:00:00Z";
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Difficulty {
+    Easy,
+    Hard,
+}
+
+impl Difficulty {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Difficulty::Easy => "easy",
+            Difficulty::Hard => "hard",
+        }
+    }
+}
+
+/// One reference expression in an episode, for the statistics.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RefStat {
+    pub role: String,
+    pub expression: String,
+    pub category: String,
+    pub depth: u32,
+    pub candidates: usize,
+}
+
+/// Generation facts kept in the instruction file under the `m2rc` key (the reference format
+/// allows extra keys), so statistics and the difficulty analysis need only the suite.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EpisodeMeta {
+    pub references: Vec<RefStat>,
+    pub destinations: usize,
+    pub must_avoid: usize,
+    /// Soft constraints the instruction states (the default clearance entry not counted).
+    pub soft: BTreeMap<String, usize>,
+    pub rooms_visited: usize,
+    pub room_transitions: usize,
+    pub reference_route_length_m: f64,
+    pub max_depth: u32,
+    pub max_candidates: usize,
+}
+
+pub struct GeneratedEpisode {
+    pub id: u32,
+    pub difficulty: Difficulty,
+    pub instruction: Value,
+    pub meta: EpisodeMeta,
+    pub program: String,
+    pub reference_route: Vec<Cell>,
+}
+
+impl GeneratedEpisode {
+    /// Renumbers the episode (the suite numbers kept episodes without gaps).
+    pub fn set_id(&mut self, id: u32) {
+        self.id = id;
+        self.instruction["id"] = json!(id);
+        self.instruction["name"] = json!(format!("instruction_{id:06}"));
+    }
+}
+
+/// Adds the generation record (generator, version, seed, source house, and the statistics
+/// facts of [`EpisodeMeta`]) under the episode format's generation key.
+pub fn attach_generation(value: &mut Value, seed: u64, house: &str) {
+    if let Some(obj) = value.as_object_mut()
+        && let Some(Value::Object(generation)) = obj.get_mut(GENERATION_KEY)
+    {
+        generation.insert("seed".into(), json!(seed));
+        generation.insert("house".into(), json!(house));
+    }
+}
+
+/// A soft preference of the plan, before rendering.
+#[derive(Clone, Debug)]
+enum Soft {
+    Near(u32, ObjRef),
+    Far(u32, ObjRef),
+    Relative(u32, ObjRef, u32, ObjRef),
+    Circle(u32, ObjRef, bool),
+    Clearance,
+}
+
+impl Soft {
+    fn kind(&self) -> &'static str {
+        match self {
+            Soft::Near(..) => "near",
+            Soft::Far(..) => "far",
+            Soft::Relative(..) => "relative",
+            Soft::Circle(..) => "path_shape",
+            Soft::Clearance => "clearance",
+        }
+    }
+}
+
+struct Stage {
+    target: u32,
+    desc: ObjRef,
+    room: u32,
+    room_desc: Option<RoomRef>,
+    avoids: Vec<(u32, RoomRef)>,
+    softs: Vec<Soft>,
+}
+
+/// Per-scene precomputation shared by all of its episodes.
+pub struct Scene<'a> {
+    pub ix: MapIndex<'a>,
+    pub map_key: String,
+    /// Object id -> (centre, radius, region cells (all), region free reachable cells).
+    targets: BTreeMap<u32, ([f64; 2], f64, Vec<usize>)>,
+    descriptions: BTreeMap<u32, Vec<ObjRef>>,
+    starts: Vec<Cell>,
+}
+
+impl<'a> Scene<'a> {
+    pub fn new(ix: MapIndex<'a>, map_key: String) -> Self {
+        let map = ix.map;
+        // The connected free space the robot lives in: the component of the map's start, else the
+        // largest component among room cells.
+        let seed_cell = map.start.filter(|&c| ix.free.passable(c)).or_else(|| {
+            let mut best: Option<(usize, Cell)> = None;
+            for cells in ix.room_cells.values() {
+                let free: Vec<usize> = cells
+                    .iter()
+                    .copied()
+                    .filter(|&i| ix.free.passable(ix.cell(i)))
+                    .collect();
+                if let Some(&first) = free.first()
+                    && best.is_none_or(|(n, _)| free.len() > n)
+                {
+                    best = Some((free.len(), ix.cell(first)));
+                }
+            }
+            best.map(|(_, c)| c)
+        });
+        let reach = seed_cell
+            .map(|c| ix.free.reachable_from(c))
+            .unwrap_or_default();
+        let reachable = |i: usize| reach.get(i).copied().unwrap_or(false);
+        let rooms = map.room_layer.data();
+        let starts: Vec<Cell> = (0..reach.len())
+            .filter(|&i| reachable(i) && rooms[i] != 0)
+            .step_by(7)
+            .map(|i| ix.cell(i))
+            .collect();
+        let mut targets = BTreeMap::new();
+        let mut descriptions = BTreeMap::new();
+        let mut memo = DescriptionMemo::new();
+        for ids in ix.objects_by_cat.values() {
+            for &id in ids {
+                let Some((center, radius, cells)) = ix.must_pass_region(id) else {
+                    continue;
+                };
+                if !cells.iter().any(|&i| reachable(i)) {
+                    continue;
+                }
+                let descs = describe(&ix, id, 5, &mut memo);
+                if descs.is_empty() {
+                    continue;
+                }
+                targets.insert(id, (center, radius, cells));
+                descriptions.insert(id, descs);
+            }
+        }
+        Scene {
+            ix,
+            map_key,
+            targets,
+            descriptions,
+            starts,
+        }
+    }
+
+    /// Objects that can be destinations.
+    pub fn target_count(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// Generates episode `id` (1-based within the scene) of the given difficulty.
+    pub fn episode(&self, seed: u64, id: u32, difficulty: Difficulty) -> Option<GeneratedEpisode> {
+        let mut rng = ChaCha8Rng::seed_from_u64(mix(seed, &self.map_key, id));
+        for _ in 0..ATTEMPTS {
+            if let Some(ep) = self.try_episode(&mut rng, id, difficulty) {
+                return Some(ep);
+            }
+        }
+        None
+    }
+
+    fn describable(&self, id: u32, max_depth: u32) -> Vec<&ObjRef> {
+        self.descriptions
+            .get(&id)
+            .map(|d| d.iter().filter(|r| r.depth() <= max_depth).collect())
+            .unwrap_or_default()
+    }
+
+    fn try_episode(
+        &self,
+        rng: &mut ChaCha8Rng,
+        id: u32,
+        difficulty: Difficulty,
+    ) -> Option<GeneratedEpisode> {
+        let ix = &self.ix;
+        let total = match difficulty {
+            Difficulty::Easy => rng.random_range(2..=4),
+            Difficulty::Hard => rng.random_range(5..=8),
+        };
+        let destinations = match difficulty {
+            Difficulty::Easy => rng.random_range(1..=2usize.min(total)),
+            Difficulty::Hard => rng.random_range(2..=4),
+        };
+        let rest = total - destinations;
+        let avoid_count = match difficulty {
+            Difficulty::Easy => rng.random_range(0..=1usize.min(rest)),
+            Difficulty::Hard => rng.random_range(0..=2usize.min(rest)),
+        };
+        let soft_count = rest - avoid_count;
+        let depth_range = match difficulty {
+            Difficulty::Easy => 1..=3u32,
+            Difficulty::Hard => 2..=5u32,
+        };
+
+        let start = *self.starts.choose(rng)?;
+        // Destinations.
+        let pool: Vec<u32> = self.targets.keys().copied().collect();
+        let mut stages: Vec<Stage> = Vec::new();
+        let mut last_center: Option<[f64; 2]> = None;
+        for _ in 0..destinations {
+            let mut picked = None;
+            for _ in 0..30 {
+                let t = *pool.choose(rng)?;
+                let (center, _, cells) = &self.targets[&t];
+                if stages.iter().any(|s| s.target == t) || cells.contains(&ix.free.index(start)) {
+                    continue;
+                }
+                if let Some(prev) = last_center
+                    && (prev[0] - center[0]).hypot(prev[1] - center[1]) <= MIN_TARGET_SPACING
+                {
+                    continue;
+                }
+                picked = Some(t);
+                break;
+            }
+            let t = picked?;
+            let want = rng.random_range(depth_range.clone());
+            let desc = pick_description(&self.descriptions[&t], want, rng)?;
+            let room = ix.object(t).room?;
+            let room_desc = room_descriptions(ix, room, 2).choose(rng).cloned();
+            last_center = Some(self.targets[&t].0);
+            stages.push(Stage {
+                target: t,
+                desc,
+                room,
+                room_desc,
+                avoids: vec![],
+                softs: vec![],
+            });
+        }
+
+        // Must-avoid rooms: never a destination's room or the start's room.
+        let start_room = ix.room_at(start);
+        let mut global_avoids: Vec<(u32, RoomRef)> = Vec::new();
+        let mut avoid_rooms: Vec<u32> = ix
+            .map
+            .rooms
+            .iter()
+            .map(|r| r.id)
+            .filter(|&r| r != start_room && stages.iter().all(|s| s.room != r))
+            .collect();
+        avoid_rooms.shuffle(rng);
+        for _ in 0..avoid_count {
+            let room = avoid_rooms.pop()?;
+            let desc = room_descriptions(ix, room, 2).choose(rng).cloned()?;
+            if rng.random_bool(0.5) {
+                global_avoids.push((room, desc));
+            } else {
+                let k = rng.random_range(0..stages.len());
+                stages[k].avoids.push((room, desc));
+            }
+        }
+
+        // Preferences, each scoped to one stage and measured in that stage's destination room.
+        let mut used_clearance = false;
+        for _ in 0..soft_count {
+            let k = rng.random_range(0..stages.len());
+            let soft = self.soft_for(rng, &stages[k], &mut used_clearance)?;
+            stages[k].softs.push(soft);
+        }
+
+        // Feasibility and reference route.
+        let route = self.reference_route(start, &stages, &global_avoids)?;
+        Some(self.render(rng, id, difficulty, start, stages, global_avoids, route))
+    }
+
+    fn soft_for(
+        &self,
+        rng: &mut ChaCha8Rng,
+        stage: &Stage,
+        used_clearance: &mut bool,
+    ) -> Option<Soft> {
+        let ix = &self.ix;
+        // Reference objects: describable objects of the destination room (shallow descriptions).
+        let mut in_room: Vec<u32> = self
+            .descriptions
+            .keys()
+            .copied()
+            .filter(|&o| ix.object(o).room == Some(stage.room) && o != stage.target)
+            .collect();
+        in_room.shuffle(rng);
+        let describe = |o: u32, rng: &mut ChaCha8Rng| {
+            let d = self.describable(o, 3);
+            d.choose(rng).map(|r| (*r).clone())
+        };
+        let mut kinds = vec!["near", "far", "relative", "path_shape"];
+        if !*used_clearance {
+            kinds.push("clearance");
+        }
+        kinds.shuffle(rng);
+        for kind in kinds {
+            match kind {
+                "near" | "far" => {
+                    if let Some(&o) = in_room.first() {
+                        let d = describe(o, rng)?;
+                        return Some(if kind == "near" {
+                            Soft::Near(o, d)
+                        } else {
+                            Soft::Far(o, d)
+                        });
+                    }
+                }
+                "relative" => {
+                    let a = in_room.first().copied();
+                    let b = in_room.iter().copied().find(|&b| {
+                        a.is_some_and(|a| ix.object(a).category != ix.object(b).category)
+                    });
+                    if let (Some(a), Some(b)) = (a, b) {
+                        return Some(Soft::Relative(a, describe(a, rng)?, b, describe(b, rng)?));
+                    }
+                }
+                "path_shape" => {
+                    // Circle a floor-standing object the robot can loop around.
+                    if let Some(&o) = in_room
+                        .iter()
+                        .find(|&&o| ix.object(o).parent.is_none() && self.ring(o, false).len() >= 8)
+                    {
+                        return Some(Soft::Circle(o, describe(o, rng)?, rng.random_bool(0.3)));
+                    }
+                }
+                _ => {
+                    *used_clearance = true;
+                    return Some(Soft::Clearance);
+                }
+            }
+        }
+        None
+    }
+
+    /// The canonical circling trajectory around an object: free cells on a circle of radius
+    /// (footprint extent + 0.5 m) around its centre, in the requested turning direction as seen
+    /// on the map image (row axis pointing down).
+    fn ring(&self, o: u32, clockwise: bool) -> Vec<Cell> {
+        let ix = &self.ix;
+        let obj = ix.object(o);
+        let [cr, cc] = obj.center;
+        let extent = obj
+            .footprint
+            .iter()
+            .map(|f| (f.row as f64 - cr).hypot(f.col as f64 - cc))
+            .fold(0.0, f64::max);
+        let radius = extent + 0.5 / ix.resolution();
+        let steps = ((2.0 * std::f64::consts::PI * radius).ceil() as usize).clamp(16, 720);
+        let mut out: Vec<Cell> = Vec::new();
+        for s in 0..=steps {
+            let mut theta = 2.0 * std::f64::consts::PI * s as f64 / steps as f64;
+            if clockwise {
+                theta = -theta;
+            }
+            let r = (cr - radius * theta.sin()).round();
+            let c = (cc + radius * theta.cos()).round();
+            if r < 0.0 || c < 0.0 {
+                continue;
+            }
+            let cell = Cell::new(r as u32, c as u32);
+            if ix.free.passable(cell)
+                && ix.room_at(cell) == obj.room.unwrap_or(0)
+                && out.last() != Some(&cell)
+            {
+                out.push(cell);
+            }
+        }
+        out
+    }
+
+    fn stage_forbidden(&self, stages: &[Stage], global: &[(u32, RoomRef)], k: usize) -> Vec<usize> {
+        let ix = &self.ix;
+        let mut cells: Vec<usize> = Vec::new();
+        for (room, _) in global.iter().chain(stages[k].avoids.iter()) {
+            cells.extend(ix.room_free_cells(*room));
+        }
+        // An avoid of the next leg must not be touched where this leg ends: the evaluator would
+        // count it against the next leg (its exit coincides with the goal entry).
+        if let Some(next) = stages.get(k + 1) {
+            let near_goal = dilate(ix.map.n(), &self.targets[&stages[k].target].2, 2);
+            for (room, _) in &next.avoids {
+                cells.extend(
+                    ix.room_free_cells(*room)
+                        .into_iter()
+                        .filter(|&i| near_goal[i]),
+                );
+            }
+        }
+        cells
+    }
+
+    fn reference_route(
+        &self,
+        start: Cell,
+        stages: &[Stage],
+        global: &[(u32, RoomRef)],
+    ) -> Option<Vec<Cell>> {
+        let ix = &self.ix;
+        let goals: Vec<Vec<bool>> = stages
+            .iter()
+            .map(|s| ix.mask(&self.targets[&s.target].2))
+            .collect();
+        let forbidden: Vec<Vec<usize>> = (0..stages.len())
+            .map(|k| self.stage_forbidden(stages, global, k))
+            .collect();
+        // The start itself must be outside every avoid.
+        let s = ix.free.index(start);
+        if forbidden.iter().any(|f| f.contains(&s)) {
+            return None;
+        }
+        let legs: Vec<Leg<'_>> = goals
+            .iter()
+            .zip(&forbidden)
+            .map(|(g, f)| Leg {
+                goal: g,
+                forbidden: f,
+            })
+            .collect();
+        chain_legs(&ix.free, start, &legs).map(|(route, _)| route)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn render(
+        &self,
+        rng: &mut ChaCha8Rng,
+        id: u32,
+        difficulty: Difficulty,
+        start: Cell,
+        stages: Vec<Stage>,
+        global_avoids: Vec<(u32, RoomRef)>,
+        route: Vec<Cell>,
+    ) -> GeneratedEpisode {
+        let ix = &self.ix;
+        let res = ix.resolution();
+        let mut sentences: Vec<String> = Vec::new();
+        let mut refs: Vec<RefStat> = Vec::new();
+        let mut stat = |role: String, r: &ObjRef, text: &str| {
+            refs.push(RefStat {
+                role,
+                expression: text.to_string(),
+                category: r.category().to_string(),
+                depth: r.depth(),
+                candidates: r.candidates(ix),
+            });
+        };
+        let mut hard: Vec<Value> = Vec::new();
+        let mut soft_json: Vec<Value> = Vec::new();
+        let mut objects_json: Vec<Value> = Vec::new();
+        let mut soft_counts: BTreeMap<String, usize> = BTreeMap::new();
+        let mut program_lets: Vec<String> = Vec::new();
+        let mut program_route: Vec<String> = Vec::new();
+
+        // Record (start) region.
+        let start_cells: Vec<Value> = disc(start, START_RADIUS)
+            .into_iter()
+            .filter(|&c| ix.free.passable(c))
+            .map(|c| json!([c.row, c.col]))
+            .collect();
+        hard.push(json!({
+            "constraint_id": "start", "kind": "must_pass", "shape": "freeform",
+            "center": [start.row as f64, start.col as f64], "radius": START_RADIUS,
+            "width": 2.0 * START_RADIUS, "height": 2.0 * START_RADIUS, "order": 1, "source": "custom",
+            "object_id": null, "scope": global_scope(), "label": "start", "cells": start_cells,
+        }));
+
+        let n_stages = stages.len();
+        let mut avoid_no = 0usize;
+        let mut soft_no = 0usize;
+        for (k, stage) in stages.iter().enumerate() {
+            let order = k as u32 + 2;
+            let obj = ix.object(stage.target);
+            let target_text = stage.desc.text(rng);
+            stat(format!("destination {}", k + 1), &stage.desc, &target_text);
+            let pos = match (n_stages, k) {
+                (1, _) => Position::Only,
+                (_, 0) => Position::First,
+                (n, k) if k + 1 == n => Position::Last,
+                _ => Position::Middle,
+            };
+            sentences.push(text::destination(rng, pos, &target_text));
+            let (center, radius, cells) = &self.targets[&stage.target];
+            hard.push(json!({
+                "constraint_id": format!("target_{}", k + 1), "kind": "must_pass", "shape": "freeform",
+                "center": center, "radius": radius, "width": 2.0 * radius, "height": 2.0 * radius,
+                "order": order, "source": "template_object", "object_id": stage.target,
+                "scope": global_scope(), "label": target_text, "cells": cells_json(ix, cells),
+            }));
+            objects_json.push(json!({
+                "order": k + 1, "object_id": stage.target, "name": obj.name, "category": obj.category,
+                "center": [round3(center[0]), round3(center[1])],
+            }));
+            let var = format!("t{}", k + 1);
+            program_lets.push(format!("let {var} = {}", stage.desc.m2r()));
+            let stage_scope = json!({"type": "between_hard_constraints", "from_order": order - 1, "to_order": order});
+            let room_text = match &stage.room_desc {
+                Some(r) => r.text(rng),
+                None => format!("the room with the {}", category_words(&obj.category)),
+            };
+            let room_m2r = match &stage.room_desc {
+                Some(r) => r.m2r(),
+                None => format!("{var}.room()"),
+            };
+            let mut body: Vec<String> = Vec::new();
+            for (room, desc) in &stage.avoids {
+                avoid_no += 1;
+                let t = desc.text(rng);
+                sentences.push(text::avoid_stage(rng, &t));
+                hard.push(avoid_json(ix, avoid_no, *room, &t, stage_scope.clone()));
+                body.push(format!("avoid {}", desc.m2r()));
+            }
+            let region_cells = ix.room_free_cells(stage.room);
+            let room_center = cells_center(ix, &region_cells);
+            for soft in &stage.softs {
+                soft_no += 1;
+                *soft_counts.entry(soft.kind().to_string()).or_default() += 1;
+                let mut c = soft_base(
+                    soft_no,
+                    soft.kind(),
+                    room_center,
+                    stage_scope.clone(),
+                    &room_text,
+                    ix,
+                    &region_cells,
+                );
+                match soft {
+                    Soft::Near(o, d) | Soft::Far(o, d) => {
+                        let t = d.text(rng);
+                        stat(format!("{} preference", soft.kind()), d, &t);
+                        let near = matches!(soft, Soft::Near(..));
+                        sentences.push(if near {
+                            text::near(rng, &t, &room_text)
+                        } else {
+                            text::far(rng, &t, &room_text)
+                        });
+                        c["preference_type"] = json!(if near {
+                            "near_preference"
+                        } else {
+                            "far_preference"
+                        });
+                        c["object_ids"] = json!([o]);
+                        c["reference_region"] = json!({"mode": "object", "object_id": o, "cells": footprint_json(ix, *o)});
+                        body.push(format!(
+                            "prefer {}({}) within {room_m2r}",
+                            if near { "near" } else { "far" },
+                            d.m2r()
+                        ));
+                    }
+                    Soft::Relative(a, da, b, db) => {
+                        let (ta, tb) = (da.text(rng), db.text(rng));
+                        stat("relative preference (preferred)".into(), da, &ta);
+                        stat("relative preference (other)".into(), db, &tb);
+                        sentences.push(text::relative(rng, &ta, &tb, &room_text));
+                        c["preference_type"] = json!("relative_preference");
+                        c["object_ids"] = json!([a, b]);
+                        c["reference_regions"] = json!([
+                            {"object_id": a, "cells": footprint_json(ix, *a)},
+                            {"object_id": b, "cells": footprint_json(ix, *b)},
+                        ]);
+                        body.push(format!(
+                            "prefer closer({}, {}) within {room_m2r}",
+                            da.m2r(),
+                            db.m2r()
+                        ));
+                    }
+                    Soft::Circle(o, d, clockwise) => {
+                        let t = d.text(rng);
+                        stat("path-shape preference".into(), d, &t);
+                        sentences.push(text::circle(rng, &t, &room_text, *clockwise));
+                        let ring: Vec<Value> = self
+                            .ring(*o, *clockwise)
+                            .iter()
+                            .map(|c| json!([c.row, c.col]))
+                            .collect();
+                        let dir = if *clockwise {
+                            "clockwise"
+                        } else {
+                            "counterclockwise"
+                        };
+                        c["preference_type"] = json!("path_shape_preference");
+                        c["object_ids"] = json!([o]);
+                        c["reference_region"] = json!({"mode": "object", "object_id": o, "cells": footprint_json(ix, *o)});
+                        c["reference_waypoint_count"] = json!(ring.len());
+                        c["reference_trajectory"] = json!(ring.clone());
+                        c["path_shape_annotation"] = json!({
+                            "version": 1, "annotation_type": "canonical_path_shape_reference",
+                            "shape_spec": {"type": "circle", "direction": dir, "ordered_control_points": ring.clone()},
+                            "shape_reference_trajectory": ring, "shape_reference_source": "m2rc_canonical_circle_v1",
+                            "annotator_id": "m2rc-suite", "notes": "generated: circle of radius footprint extent + 0.5 m",
+                            "created_at": TIMESTAMP, "updated_at": TIMESTAMP, "history": [],
+                        });
+                        body.push(format!(
+                            "prefer circle({}, {dir}) within {room_m2r}",
+                            d.m2r()
+                        ));
+                    }
+                    Soft::Clearance => {
+                        sentences.push(text::clearance(rng));
+                        c["preference_type"] = json!("clearance");
+                        c["shape"] = json!("freeform");
+                        c["cells"] = json!([]);
+                        body.push("prefer clearance(0.5m)".to_string());
+                    }
+                }
+                soft_json.push(c);
+            }
+            if body.is_empty() {
+                program_route.push(format!("  go {var}"));
+            } else {
+                program_route.push(format!("  go {var} {{"));
+                program_route.extend(body.iter().map(|b| format!("    {b}")));
+                program_route.push("  }".to_string());
+            }
+        }
+        for (room, desc) in &global_avoids {
+            avoid_no += 1;
+            let t = desc.text(rng);
+            sentences.push(text::avoid_global(rng, &t));
+            hard.push(avoid_json(ix, avoid_no, *room, &t, global_scope()));
+            program_route.push(format!("  avoid {}", desc.m2r()));
+        }
+        // The annotator's default clearance entry, always present.
+        soft_json.push(json!({
+            "constraint_id": "__global_clearance__", "preference_type": "clearance", "shape": "freeform",
+            "center": [0.0, 0.0], "radius": 1.0, "width": 1.0, "height": 1.0, "object_ids": [],
+            "reference_regions": [], "reference_region": null, "reference_trajectory": [],
+            "reference_waypoint_count": 0, "scope": global_scope(), "label": "Clearance", "cells": [],
+        }));
+
+        let instruction = sentences.join(" ");
+        let mut program = String::new();
+        program.push_str(&format!("// map: {}\n", self.map_key));
+        for line in wrap(&format!("\"{instruction}\""), 96) {
+            program.push_str(&format!("// {line}\n"));
+        }
+        for l in &program_lets {
+            program.push_str(l);
+            program.push('\n');
+        }
+        program.push_str("\nroute {\n");
+        for l in &program_route {
+            program.push_str(l);
+            program.push('\n');
+        }
+        program.push_str("}\n");
+
+        let (rooms_visited, room_transitions) = room_traversal(ix, &route);
+        let length_cells: f64 = route.windows(2).map(|w| w[0].dist(w[1])).sum();
+        let meta = EpisodeMeta {
+            max_depth: refs.iter().map(|r| r.depth).max().unwrap_or(0),
+            max_candidates: refs.iter().map(|r| r.candidates).max().unwrap_or(0),
+            references: refs,
+            destinations: n_stages,
+            must_avoid: avoid_no,
+            soft: soft_counts,
+            rooms_visited,
+            room_transitions,
+            reference_route_length_m: length_cells * res,
+        };
+        let ordering = (1..=n_stages)
+            .map(|k| format!("obj{k}"))
+            .collect::<Vec<_>>()
+            .join(" -> ");
+        let instruction_json = json!({
+            "id": id,
+            "map_id": self.map_key,
+            "template_instruction_id": format!("m2rc_{:06}", id),
+            "object_count": n_stages,
+            "objects": objects_json,
+            "human_expert_trajectory": [],
+            "start_pose": {"row": start.row, "col": start.col},
+            "feasible": true,
+            "name": format!("instruction_{id:06}"),
+            "notes": "generated by m2rc suite build; no human demonstration",
+            "created_by": "m2rc-suite",
+            "hard_constraints": hard,
+            "soft_constraints": soft_json,
+            "ordering": ordering,
+            "difficulty_level": difficulty.as_str(),
+            "created_at": TIMESTAMP,
+            "updated_at": TIMESTAMP,
+            "instruction": instruction,
+        });
+        let mut generation = json!({
+            "generator": "m2rc-suite",
+            "version": env!("CARGO_PKG_VERSION"),
+            "template": format!("m2rc-suite/{}", difficulty.as_str()),
+        });
+        if let (Some(g), Value::Object(m)) = (
+            generation.as_object_mut(),
+            serde_json::to_value(&meta).expect("meta serializes"),
+        ) {
+            g.extend(m);
+        }
+        let mut instruction_json = instruction_json;
+        instruction_json[GOLD_PROGRAM_KEY] = json!(program);
+        instruction_json[GENERATION_KEY] = generation;
+        GeneratedEpisode {
+            id,
+            difficulty,
+            instruction: instruction_json,
+            meta,
+            program,
+            reference_route: route,
+        }
+    }
+}
+
+fn global_scope() -> Value {
+    json!({"type": "global", "from_order": null, "to_order": null})
+}
+
+fn avoid_json(ix: &MapIndex<'_>, no: usize, room: u32, label: &str, scope: Value) -> Value {
+    let cells = ix.room_free_cells(room);
+    let center = cells_center(ix, &cells);
+    json!({
+        "constraint_id": format!("avoid_{no}"), "kind": "must_avoid", "shape": "freeform",
+        "center": center, "radius": 1.0, "width": 1.0, "height": 1.0, "order": null, "source": "custom",
+        "object_id": null, "scope": scope, "label": label, "cells": cells_json(ix, &cells),
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn soft_base(
+    no: usize,
+    kind: &str,
+    center: [f64; 2],
+    scope: Value,
+    room: &str,
+    ix: &MapIndex<'_>,
+    cells: &[usize],
+) -> Value {
+    json!({
+        "constraint_id": format!("soft_{no}"), "preference_type": kind, "shape": "freeform",
+        "center": center, "radius": 1.0, "width": 1.0, "height": 1.0, "object_ids": [],
+        "reference_regions": [], "reference_region": null, "D_ref": null, "Q_relative_ref": null,
+        "C_smooth_ref": null, "C_clear_ref": null, "reference_trajectory": [], "reference_waypoint_count": 0,
+        "reference_valid_path_length": 0.0, "reference_metric_status": null, "relative_reference_status": null,
+        "scope": scope, "label": format!("{kind} in {room}"), "cells": cells_json(ix, cells),
+    })
+}
+
+fn cells_json(ix: &MapIndex<'_>, cells: &[usize]) -> Value {
+    Value::Array(
+        cells
+            .iter()
+            .map(|&i| {
+                let c = ix.cell(i);
+                json!([c.row, c.col])
+            })
+            .collect(),
+    )
+}
+
+fn footprint_json(ix: &MapIndex<'_>, o: u32) -> Value {
+    Value::Array(
+        ix.object(o)
+            .footprint
+            .iter()
+            .map(|c| json!([c.row, c.col]))
+            .collect(),
+    )
+}
+
+fn cells_center(ix: &MapIndex<'_>, cells: &[usize]) -> [f64; 2] {
+    if cells.is_empty() {
+        return [0.0, 0.0];
+    }
+    let (mut r, mut c) = (0.0, 0.0);
+    for &i in cells {
+        let cell = ix.cell(i);
+        r += cell.row as f64;
+        c += cell.col as f64;
+    }
+    [
+        round3(r / cells.len() as f64),
+        round3(c / cells.len() as f64),
+    ]
+}
+
+fn round3(x: f64) -> f64 {
+    (x * 1000.0).round() / 1000.0
+}
+
+fn disc(center: Cell, radius: f64) -> Vec<Cell> {
+    let r = radius.ceil() as i64;
+    let mut out = Vec::new();
+    for dr in -r..=r {
+        for dc in -r..=r {
+            let (row, col) = (center.row as i64 + dr, center.col as i64 + dc);
+            if row >= 0 && col >= 0 && ((dr * dr + dc * dc) as f64).sqrt() <= radius {
+                out.push(Cell::new(row as u32, col as u32));
+            }
+        }
+    }
+    out
+}
+
+/// Cells within Chebyshev distance `by` of any cell in `cells`.
+fn dilate(n: usize, cells: &[usize], by: i64) -> Vec<bool> {
+    let mut out = vec![false; n * n];
+    for &i in cells {
+        let (r, c) = ((i / n) as i64, (i % n) as i64);
+        for dr in -by..=by {
+            for dc in -by..=by {
+                let (rr, cc) = (r + dr, c + dc);
+                if rr >= 0 && cc >= 0 && (rr as usize) < n && (cc as usize) < n {
+                    out[rr as usize * n + cc as usize] = true;
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Rooms visited and room transitions along a route (consecutive distinct non-zero room ids), as
+/// in the reference statistics.
+pub fn room_traversal(ix: &MapIndex<'_>, route: &[Cell]) -> (usize, usize) {
+    let mut seq: Vec<u32> = Vec::new();
+    for &c in route {
+        let r = ix.room_at(c);
+        if r != 0 && seq.last() != Some(&r) {
+            seq.push(r);
+        }
+    }
+    (seq.len(), seq.len().saturating_sub(1))
+}
+
+fn wrap(s: &str, width: usize) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for word in s.split_whitespace() {
+        let last = lines.last_mut().expect("non-empty");
+        if !last.is_empty() && last.len() + 1 + word.len() > width {
+            lines.push(word.to_string());
+        } else {
+            if !last.is_empty() {
+                last.push(' ');
+            }
+            last.push_str(word);
+        }
+    }
+    lines
+}
+
+/// A stable per-episode seed: FNV-1a over the suite seed, the map key and the episode id.
+pub fn mix(seed: u64, key: &str, id: u32) -> u64 {
+    let mut h: u64 = 0xcbf29ce484222325;
+    for b in seed
+        .to_le_bytes()
+        .iter()
+        .chain(key.as_bytes())
+        .chain(id.to_le_bytes().iter())
+    {
+        h ^= *b as u64;
+        h = h.wrapping_mul(0x100000001b3);
+    }
+    h
+}

@@ -1,0 +1,366 @@
+//! Checking calls of built-ins: choosing the overload, matching positional and named arguments
+//! to parameters, and explaining wrong names, receivers and arities.
+
+use crate::check::{CallInfo, Checker, Resolution};
+use crate::diagnostic::{Code, Diagnostic};
+use crate::slot::{CatCtx, Slot};
+use crate::suggest;
+use m2rc_grammar::ast::{Arg, Expr, Ident, Span};
+use m2rc_stdlib::builtins::{self, Builtin, Elem, Receiver, Requirement, Ty, Type};
+use m2rc_stdlib::vocab::CategoryKind;
+
+impl Checker<'_> {
+    /// `f(args)`
+    pub(crate) fn call(&mut self, e: &Expr, func: &Ident, args: &[Arg]) -> Type {
+        let name = func.name.as_str();
+        if let Some(b) = builtins::functions(name).next() {
+            return self.apply(e, func, b, Elem::Place, args);
+        }
+        if let Some(m) = builtins::methods(name).next() {
+            // `nearest(objects(chair))`: a method called like a function.
+            let mut d = Diagnostic::new(
+                Code::MethodAsFunction,
+                func.span,
+                format!("`{name}` is a method: call it on its receiver"),
+            )
+            .note(format!("signature: `{}`", m.signature(None)));
+            if let Some((first, rest)) = args.split_first()
+                && first.name.is_none()
+            {
+                let recv = self.text(first.value.span);
+                let rest: Vec<&str> = rest.iter().map(|a| self.text(a.span)).collect();
+                let fixed = format!("{recv}.{name}({})", rest.join(", "));
+                d = d.help(format!("write `{fixed}`")).suggest(e.span, fixed);
+            }
+            self.report(d);
+            self.args_unchecked(args);
+            return Type::Error;
+        }
+        let mut d = Diagnostic::new(
+            Code::UnknownFunction,
+            func.span,
+            format!("unknown function `{name}`"),
+        );
+        let free: Vec<&str> = builtins::BUILTINS
+            .iter()
+            .filter(|b| !b.is_method())
+            .map(|b| b.name)
+            .collect();
+        if let Some(best) = suggest::best(name, free.iter().copied()) {
+            d = d
+                .help(format!("did you mean `{best}`?"))
+                .suggest(func.span, best);
+        } else if self.peek_binding(name).is_some() {
+            d = d.note(format!("`{name}` is a binding, not a function"));
+        }
+        self.report(d);
+        self.args_unchecked(args);
+        Type::Error
+    }
+
+    /// `receiver.method(args)`
+    pub(crate) fn method(
+        &mut self,
+        e: &Expr,
+        receiver: &Expr,
+        method: &Ident,
+        args: &[Arg],
+    ) -> Type {
+        let recv = self.expr(receiver, Slot::Any);
+        let name = method.name.as_str();
+        if recv == Type::Error {
+            self.args_unchecked(args);
+            return Type::Error;
+        }
+        if let Some((b, t)) = builtins::method_for(name, recv) {
+            return self.apply(e, method, b, t, args);
+        }
+        let rows: Vec<&'static Builtin> = builtins::methods(name).collect();
+        if !rows.is_empty() {
+            let receivers: Vec<String> = rows
+                .iter()
+                .filter_map(|b| match b.receiver {
+                    Receiver::Method(alts) => {
+                        Some(builtins::signature::display_alternatives(alts, None))
+                    }
+                    Receiver::Free => None,
+                })
+                .collect();
+            let mut d = Diagnostic::new(
+                Code::WrongReceiver,
+                method.span,
+                format!(
+                    "`{name}` is a method of {}, found `{recv}`",
+                    receivers.join(" and ")
+                ),
+            )
+            .label(receiver.span, format!("this is `{recv}`"));
+            if let Type::Set(el) = recv
+                && builtins::method_for(name, el.ty()).is_some()
+            {
+                d = d
+                    .help(format!("choose one element first, e.g. `.only().{name}(...)` or `.nearest().{name}(...)`"))
+                    .suggest(Span::new(receiver.span.end, receiver.span.end), ".only()");
+            } else if recv.is_place()
+                && let Some(el) = recv.as_place()
+                && builtins::method_for(name, Type::Set(el)).is_some()
+            {
+                d = d.note(format!(
+                    "`{name}` works on sets; `{recv}` is a single place"
+                ));
+            }
+            if let Some(def) = self.lambda_param_of(receiver) {
+                d = d.label(
+                    def,
+                    format!("the parameter is a `{recv}`: an element of the set being filtered"),
+                );
+            }
+            self.report(d);
+            self.args_unchecked(args);
+            return Type::Error;
+        }
+        if builtins::functions(name).next().is_some() {
+            let recv_text = self.text(receiver.span);
+            let mut parts = vec![recv_text];
+            parts.extend(args.iter().map(|a| self.text(a.span)));
+            let fixed = format!("{name}({})", parts.join(", "));
+            self.report(
+                Diagnostic::new(
+                    Code::FunctionAsMethod,
+                    method.span,
+                    format!("`{name}` is a function, not a method"),
+                )
+                .help(format!("write `{fixed}`"))
+                .suggest(e.span, fixed),
+            );
+            self.args_unchecked(args);
+            return Type::Error;
+        }
+        // Prefer methods that apply to this receiver in the did-you-mean.
+        let applicable: Vec<&str> = builtins::BUILTINS
+            .iter()
+            .filter(|b| b.is_method() && b.bind_receiver(recv).is_some())
+            .map(|b| b.name)
+            .collect();
+        let all: Vec<&str> = builtins::BUILTINS
+            .iter()
+            .filter(|b| b.is_method())
+            .map(|b| b.name)
+            .collect();
+        let mut d = Diagnostic::new(
+            Code::UnknownMethod,
+            method.span,
+            format!("no method `{name}` on `{recv}`"),
+        );
+        if let Some(best) = suggest::best(name, applicable.iter().copied())
+            .or_else(|| suggest::best(name, all.iter().copied()))
+        {
+            d = d
+                .help(format!("did you mean `{best}`?"))
+                .suggest(method.span, best);
+        } else {
+            let mut names = applicable.clone();
+            names.dedup();
+            d = d.note(format!("methods of `{recv}`: {}", names.join(", ")));
+        }
+        self.report(d);
+        self.args_unchecked(args);
+        Type::Error
+    }
+
+    /// The lambda parameter a receiver names, if any, for "the parameter is a Room" labels.
+    fn lambda_param_of(&self, receiver: &Expr) -> Option<Span> {
+        let m2rc_grammar::ast::ExprKind::Name(id) = &receiver.kind else {
+            return None;
+        };
+        match self.resolutions.get(&id.span) {
+            Some(Resolution::Binding {
+                def,
+                kind: crate::resolve::BindingKind::LambdaParam,
+            }) => Some(*def),
+            _ => None,
+        }
+    }
+
+    /// Checks arguments of a call that could not be resolved, so names inside still resolve.
+    /// Category words there are not reported: the call's own error explains the line, and the
+    /// word was probably meant as a category of the intended built-in.
+    fn args_unchecked(&mut self, args: &[Arg]) {
+        let saved = std::mem::replace(&mut self.lenient, true);
+        for a in args {
+            self.expr(&a.value, Slot::Any);
+        }
+        self.lenient = saved;
+    }
+
+    /// Matches `args` to the parameters of `b`, checks each, and records the call.
+    fn apply(
+        &mut self,
+        e: &Expr,
+        func: &Ident,
+        b: &'static Builtin,
+        t: Elem,
+        args: &[Arg],
+    ) -> Type {
+        self.resolutions
+            .insert(func.span, Resolution::Builtin { builtin: b, t });
+        let mut filled: Vec<Option<usize>> = vec![None; b.params.len()];
+        let mut seen_named = false;
+        let mut positional = 0usize;
+        let mut extra: Vec<usize> = Vec::new();
+        for (i, a) in args.iter().enumerate() {
+            match &a.name {
+                None => {
+                    if seen_named {
+                        self.report(
+                            Diagnostic::new(
+                                Code::PositionalAfterNamed,
+                                a.span,
+                                "a positional argument cannot follow a named one",
+                            )
+                            .help(format!(
+                                "name it, or move it before the named arguments: `{}`",
+                                b.signature(Some(t))
+                            )),
+                        );
+                        self.expr(&a.value, Slot::Any);
+                        continue;
+                    }
+                    if positional < b.params.len() {
+                        filled[positional] = Some(i);
+                    } else {
+                        extra.push(i);
+                    }
+                    positional += 1;
+                }
+                Some(n) => {
+                    seen_named = true;
+                    match b.params.iter().position(|p| p.name == n.name) {
+                        Some(p) if filled[p].is_some() => {
+                            let prev = filled[p]
+                                .and_then(|j| args.get(j))
+                                .map_or(a.span, |x| x.span);
+                            self.report(
+                                Diagnostic::new(
+                                    Code::DuplicateArgument,
+                                    a.span,
+                                    format!("argument `{}` is given twice", n.name),
+                                )
+                                .label(prev, "first given here")
+                                .help("remove one of them"),
+                            );
+                            self.expr(&a.value, Slot::Any);
+                        }
+                        Some(p) => filled[p] = Some(i),
+                        None => {
+                            let names: Vec<&str> = b.params.iter().map(|p| p.name).collect();
+                            let mut d = Diagnostic::new(
+                                Code::UnknownNamedArgument,
+                                n.span,
+                                format!("`{}` has no parameter `{}`", b.name, n.name),
+                            )
+                            .note(format!("signature: `{}`", b.signature(Some(t))));
+                            if let Some(best) = suggest::best(&n.name, names.iter().copied()) {
+                                d = d
+                                    .help(format!("did you mean `{best}`?"))
+                                    .suggest(n.span, best);
+                            }
+                            self.report(d);
+                            self.expr(&a.value, Slot::Any);
+                        }
+                    }
+                }
+            }
+        }
+        if !extra.is_empty() {
+            let first = &args[extra[0]];
+            let last = &args[*extra.last().unwrap_or(&extra[0])];
+            // Remove from the end of the last accepted argument, taking the comma with it.
+            let from = if extra[0] > 0 {
+                args[extra[0] - 1].span.end
+            } else {
+                first.span.start
+            };
+            let n = b.params.len();
+            let mut d = Diagnostic::new(
+                Code::TooManyArguments,
+                first.span.to(last.span),
+                format!(
+                    "`{}` takes {n} argument{}, but {} were given",
+                    b.name,
+                    if n == 1 { "" } else { "s" },
+                    n + extra.len()
+                ),
+            )
+            .note(format!("signature: `{}`", b.signature(Some(t))));
+            if b.name == "objects" || b.name == "rooms" {
+                let cats: Vec<&str> = std::iter::once(filled[0])
+                    .flatten()
+                    .chain(extra.iter().copied())
+                    .map(|i| self.text(args[i].span))
+                    .collect();
+                d = d
+                    .help(format!(
+                        "unite categories with `|`: `{}({})`",
+                        b.name,
+                        cats.join(" | ")
+                    ))
+                    .suggest(e.span, format!("{}({})", b.name, cats.join(" | ")));
+            } else {
+                d = d
+                    .help("remove the extra arguments")
+                    .suggest(Span::new(from, last.span.end), "");
+            }
+            self.report(d);
+            let extra_args: Vec<Arg> = extra.iter().map(|&i| args[i].clone()).collect();
+            self.args_unchecked(&extra_args);
+        }
+        for (p, slot_arg) in b.params.iter().zip(&filled) {
+            match slot_arg {
+                Some(i) => {
+                    let cat = p.ty.contains(&Ty::Is(Type::Category)).then_some(CatCtx {
+                        want: match b.name {
+                            "objects" => Some(CategoryKind::Object),
+                            "rooms" => Some(CategoryKind::Room),
+                            _ => None,
+                        },
+                        func: Some(func.span),
+                    });
+                    self.check_expr(&args[*i].value, Slot::Alts { alts: p.ty, t, cat });
+                }
+                None if p.req == Requirement::Required => {
+                    let ty = builtins::signature::display_alternatives(p.ty, Some(t));
+                    let mut d = Diagnostic::new(
+                        Code::MissingArgument,
+                        e.span,
+                        format!("`{}` is missing its argument `{}: {ty}`", b.name, p.name),
+                    )
+                    .help(format!("signature: `{}`", b.signature(Some(t))));
+                    let guess = match p.ty.first() {
+                        Some(Ty::Is(Type::Direction)) => Some("counterclockwise"),
+                        Some(Ty::Is(Type::Metric)) => Some("straight"),
+                        _ => None,
+                    };
+                    if let Some(g) = guess
+                        && self.text(e.span).ends_with(')')
+                    {
+                        let at = Span::new(e.span.end - 1, e.span.end - 1);
+                        let sep = if args.is_empty() { "" } else { ", " };
+                        d = d.suggest(at, format!("{sep}{}: {g}", p.name));
+                    }
+                    self.report(d);
+                }
+                None => {}
+            }
+        }
+        self.calls.insert(
+            e.span,
+            CallInfo {
+                builtin: b,
+                t,
+                args: filled,
+            },
+        );
+        b.ret.instantiate(t).unwrap_or(Type::Error)
+    }
+}

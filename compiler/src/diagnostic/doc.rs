@@ -1,0 +1,118 @@
+//! Generates `docs/diagnostics.md` from the code registry, with each example's real output, so
+//! the reference cannot drift from the checker. A test fails when the file is stale; regenerate
+//! with `UPDATE_DOCS=1 cargo test -p m2rc-compiler diagnostics_doc`.
+
+use super::{Code, Severity, render_text};
+use m2rc_stdlib::vocab::Vocabulary;
+
+const HEADER: &str = r#"# Diagnostics
+
+<!-- Generated from `compiler/src/diagnostic/codes.rs` by `UPDATE_DOCS=1 cargo test -p m2rc-compiler diagnostics_doc`; do not edit by hand. -->
+
+Every problem m2rc reports has a stable code. Codes are never renumbered or reused.
+
+| Range | Phase |
+|---|---|
+| `E00xx` | parsing |
+| `E01xx` | names: bindings, built-ins, arguments |
+| `E02xx` | types |
+| `E03xx` | route structure and scopes |
+| `E04xx` | categories and vocabulary |
+| `E05xx` | grounding against a map |
+| `E06xx` | verification |
+| `E07xx` | planning |
+
+Each diagnostic has a code, a severity (`error` or `warning`; a program with only warnings is
+accepted), a message, a primary span, secondary labels, notes, an optional `help`, and zero or more
+machine-applicable suggestions (the first is the preferred fix; several are alternatives, such as
+each candidate of an ambiguous category).
+
+## JSON form
+
+`m2rc check --format json` prints an array of objects:
+
+```json
+{
+  "code": "E0202",
+  "severity": "error",
+  "title": "a set where a single value is expected",
+  "message": "expected `Place`, found the set `Set<Object>`",
+  "span": { "start": 11, "end": 23, "line": 1, "col": 12, "end_line": 1, "end_col": 24 },
+  "labels": [ { "span": { "...": "as above" }, "message": "..." } ],
+  "notes": [ "a set never stands for one of its elements: choose one explicitly" ],
+  "help": "take the only element with `.only()` ...",
+  "suggestion": { "span": { "start": 23, "end": 23, "...": "..." }, "replacement": ".only()" },
+  "suggestions": [ { "span": { "...": "..." }, "replacement": ".only()" },
+                   { "span": { "...": "..." }, "replacement": ".nearest()" } ]
+}
+```
+
+* `start` / `end`: byte offsets into the file, half-open.
+* `line` / `col` (and `end_line` / `end_col`): 1-based; columns count Unicode characters.
+* `help`: text or `null`. `suggestion`: the preferred fix or `null`; apply it by replacing the
+  bytes `span.start..span.end` with `replacement` (an empty span inserts, an empty replacement
+  deletes). `suggestions`: all fixes, preferred first.
+
+In the language server, positions are 0-based lines and UTF-16 columns (the LSP default); notes
+and help are appended to the message, labels become related information, and the suggestions
+travel in `data.suggestions` as `{range, newText}` for code actions.
+
+## Codes
+"#;
+
+/// The whole Markdown file.
+pub fn diagnostics_markdown() -> String {
+    let mut out = String::from(HEADER);
+    let vocab = Vocabulary::benchmark();
+    for info in Code::registry() {
+        let sev = match info.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        out.push_str(&format!("\n### {}: {} ({sev})\n", info.id, info.title));
+        if info.example.is_empty() {
+            out.push_str("\nNo standalone example: this code needs ");
+            out.push_str(match info.id {
+                "E0404" => "a map (`m2rc check --map`): a category the benchmark knows but the map lacks.\n",
+                "E0000" => "a parser error of a kind newer than this registry.\n",
+                _ => "input that is impractical to show here.\n",
+            });
+            continue;
+        }
+        out.push_str("\n```m2r\n");
+        out.push_str(info.example);
+        out.push_str("\n```\n");
+        if info.id < "E0500" {
+            let r = crate::check(info.example, &vocab);
+            let shown: Vec<_> = r
+                .diagnostics
+                .into_iter()
+                .filter(|d| d.code.id() == info.id)
+                .collect();
+            out.push_str("\n```text\n");
+            out.push_str(&render_text(&shown, "example.m2r", info.example));
+            out.push_str("```\n");
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn diagnostics_doc_is_current() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/diagnostics.md");
+        let want = diagnostics_markdown();
+        if std::env::var_os("UPDATE_DOCS").is_some() {
+            std::fs::write(path, &want).unwrap();
+            return;
+        }
+        let have = std::fs::read_to_string(path).unwrap_or_default();
+        assert!(
+            have == want,
+            "docs/diagnostics.md is stale: run `UPDATE_DOCS=1 cargo test -p m2rc-compiler diagnostics_doc`"
+        );
+    }
+}

@@ -1,0 +1,478 @@
+//! The route block: stages, `for` groups, constraints and their scopes, into RouteIR.
+
+use super::codes;
+use super::value::{PlaceVal, Pref, Value};
+use super::{Grounder, Problem};
+use crate::ir::{
+    self, CellSet, Constraint, ConstraintKind, Construction, Direction, Pass, Place, PlaceKind,
+    ROUTE_IR_VERSION, RouteIr, Shape, SourceSpan, StageScope,
+};
+use m2rc_grammar::ast::{self, ConstraintKind as Kind, Item, RouteItem, Scope, Span, StageItem};
+use m2rc_stdlib::grid::Cell;
+use m2rc_stdlib::query::{Target, WaypointShape, loop_waypoints};
+
+/// A route-level constraint waiting for the stage list, to resolve `during` names.
+struct Pending {
+    kind: ConstraintKind,
+    within: Option<Place>,
+    during: Option<Vec<ast::Ident>>,
+    /// The stage whose body declared it.
+    stage: Option<usize>,
+    span: Span,
+}
+
+#[derive(Default)]
+struct Build {
+    stages: Vec<ir::Stage>,
+    pending: Vec<Pending>,
+}
+
+impl Grounder<'_, '_> {
+    pub(super) fn program(&mut self, program: &ast::Program, start: Cell) -> RouteIr {
+        let mut b = Build::default();
+        for item in &program.items {
+            match item {
+                Item::Let(l) => self.let_binding(l),
+                Item::Route(r) => self.route_items(&r.items, &mut b),
+                Item::Error(_) => {}
+            }
+        }
+        let mut constraints = Vec::new();
+        for p in b.pending {
+            let stage_scope = match (&p.during, p.stage) {
+                (_, Some(i)) => StageScope::Stages(vec![i]),
+                (None, None) => StageScope::Global,
+                (Some(names), None) => {
+                    let mut idx = Vec::new();
+                    for n in names {
+                        let found: Vec<usize> = b
+                            .stages
+                            .iter()
+                            .enumerate()
+                            .filter(|(_, s)| s.name == n.name)
+                            .map(|(i, _)| i)
+                            .collect();
+                        if found.is_empty() {
+                            self.problems.push(
+                                Problem::warning(
+                                    codes::UNKNOWN_STAGE,
+                                    n.span,
+                                    format!("no stage `{}` on this map", n.name),
+                                )
+                                .note("a `for` loop over an empty set produced none of its stages"),
+                            );
+                        }
+                        idx.extend(found);
+                    }
+                    idx.sort_unstable();
+                    idx.dedup();
+                    if idx.is_empty() {
+                        continue;
+                    }
+                    StageScope::Stages(idx)
+                }
+            };
+            constraints.push(Constraint {
+                id: format!("c{}", constraints.len()),
+                kind: p.kind,
+                stage_scope,
+                spatial_scope: p.within,
+                span: SourceSpan::new(self.source, p.span),
+            });
+        }
+        let map = self.q.map();
+        RouteIr {
+            version: ROUTE_IR_VERSION,
+            map_id: map.map_id.clone(),
+            grid_size: map.n(),
+            resolution_m: self.q.res(),
+            start,
+            stages: b.stages,
+            constraints,
+            route_bindings: std::mem::take(&mut self.bindings),
+        }
+    }
+
+    fn let_binding(&mut self, l: &ast::Let) {
+        let v = self.eval(&l.value);
+        self.scopes.push((l.name.name.clone(), v));
+    }
+
+    fn route_items(&mut self, items: &[RouteItem], b: &mut Build) {
+        let depth = self.scopes.len();
+        for item in items {
+            match item {
+                RouteItem::Let(l) => self.let_binding(l),
+                RouteItem::Stage(s) => self.stage(s, b),
+                RouteItem::Constraint(c) => self.constraint(c, None, b),
+                RouteItem::For(f) => match self.eval(&f.iter) {
+                    Value::Set(elems) => {
+                        for el in elems {
+                            self.scopes.push((f.var.name.clone(), Value::Place(el)));
+                            self.route_items(&f.body, b);
+                            self.scopes.pop();
+                        }
+                    }
+                    Value::Unknown => {}
+                    _ => {
+                        self.unsupported(&f.iter);
+                    }
+                },
+                RouteItem::Error(_) => {}
+            }
+        }
+        self.scopes.truncate(depth);
+    }
+
+    fn stage(&mut self, s: &ast::Stage, b: &mut Build) {
+        let index = b.stages.len();
+        let target = match self.eval(&s.target) {
+            Value::Place(p) => Some(p),
+            Value::Unknown => None,
+            _ => {
+                self.unsupported(&s.target);
+                None
+            }
+        };
+        let name = s
+            .name
+            .as_ref()
+            .map_or(format!("stage{}", index + 1), |n| n.name.clone());
+        let ir_target = match &target {
+            Some(p) => self.ir_place(p),
+            None => Place {
+                kind: PlaceKind::Region {
+                    construction: Construction {
+                        kind: "unresolved".into(),
+                        from: vec![],
+                        radius_m: None,
+                    },
+                },
+                label: "unresolved".into(),
+                cells: CellSet::default(),
+            },
+        };
+        b.stages.push(ir::Stage {
+            name,
+            target: ir_target,
+            passes: vec![],
+            span: SourceSpan::new(self.source, s.span),
+        });
+        let depth = self.scopes.len();
+        let outer_target = self
+            .stage_target
+            .replace(target.clone().unwrap_or(PlaceVal::Room(0)));
+        for item in &s.body {
+            match item {
+                StageItem::Let(l) => self.let_binding(l),
+                StageItem::Constraint(c) => self.constraint(c, Some(index), b),
+                StageItem::Error(_) => {}
+            }
+        }
+        self.stage_target = outer_target;
+        self.scopes.truncate(depth);
+        if let Some(t) = target {
+            self.here = t;
+        }
+    }
+
+    fn constraint(&mut self, c: &ast::Constraint, stage: Option<usize>, b: &mut Build) {
+        let value = self.eval(&c.value);
+        let mut within: Option<Place> = None;
+        let mut during = None;
+        for s in &c.scopes {
+            match s {
+                Scope::Within { place, .. } => match self.eval(place).places() {
+                    Some(ps) if !ps.is_empty() => within = Some(self.union_place(&ps)),
+                    Some(_) => {
+                        self.problems.push(Problem::error(
+                            codes::EMPTY_REFERENCE,
+                            place.span,
+                            "this scope matches nothing on this map",
+                        ));
+                        return;
+                    }
+                    None => return,
+                },
+                Scope::During { stages, .. } => during = Some(stages.clone()),
+            }
+        }
+        let kind = match (c.kind, value) {
+            (_, Value::Unknown) => return,
+            (Kind::Pass, v) => {
+                let Some(places) = v.places() else { return };
+                if places.is_empty() {
+                    self.problems.push(Problem::error(
+                        codes::EMPTY_REFERENCE,
+                        c.value.span,
+                        "`pass` matches nothing on this map",
+                    ));
+                    return;
+                }
+                match stage.and_then(|i| b.stages.get_mut(i).map(|_| i)) {
+                    Some(i) => {
+                        let span = SourceSpan::new(self.source, c.span);
+                        let passes: Vec<Pass> = places
+                            .iter()
+                            .map(|p| Pass {
+                                place: self.ir_place(p),
+                                span,
+                            })
+                            .collect();
+                        b.stages[i].passes.extend(passes);
+                    }
+                    None => {
+                        self.problems.push(
+                            Problem::error(
+                                codes::UNSUPPORTED,
+                                c.span,
+                                "`pass` outside a stage has no order to be passed in",
+                            )
+                            .help("put `pass` inside the stage it belongs to"),
+                        );
+                    }
+                }
+                return;
+            }
+            (Kind::Avoid, v) => {
+                let Some(places) = v.places() else { return };
+                if places.is_empty() {
+                    self.problems.push(Problem::warning(
+                        codes::EMPTY_CONSTRAINT,
+                        c.value.span,
+                        "`avoid` matches nothing on this map; the constraint is dropped",
+                    ));
+                    return;
+                }
+                ConstraintKind::Avoid {
+                    place: self.union_place(&places),
+                }
+            }
+            (Kind::Prefer, Value::Pref(p)) => match self.preference(c, p, stage) {
+                Some(k) => k,
+                None => return,
+            },
+            (Kind::Prefer, _) => {
+                self.unsupported(&c.value);
+                return;
+            }
+        };
+        b.pending.push(Pending {
+            kind,
+            within,
+            during,
+            stage,
+            span: c.span,
+        });
+    }
+
+    fn preference(
+        &mut self,
+        c: &ast::Constraint,
+        p: Pref,
+        _stage: Option<usize>,
+    ) -> Option<ConstraintKind> {
+        let empty = |g: &mut Self, what: &str| {
+            g.problems.push(Problem::warning(
+                codes::EMPTY_CONSTRAINT,
+                c.value.span,
+                format!("`{what}` refers to nothing on this map; the preference is dropped"),
+            ));
+            None
+        };
+        // Where the loop starts from: the free cell of the stage start nearest its centre.
+        let centre = self.here.center(self.q).unwrap_or([0.0, 0.0]);
+        let from = self
+            .q
+            .band(self.here.target(self.q))
+            .into_iter()
+            .min_by(|a, b| {
+                let d = |c: &Cell| (c.row as f64 - centre[0]).hypot(c.col as f64 - centre[1]);
+                d(a).total_cmp(&d(b)).then(a.cmp(b))
+            });
+        Some(match p {
+            Pref::Near(xs) if xs.is_empty() => return empty(self, "near"),
+            Pref::Far(xs) if xs.is_empty() => return empty(self, "far"),
+            Pref::Near(xs) => ConstraintKind::Near {
+                reference: self.union_place(&xs),
+            },
+            Pref::Far(xs) => ConstraintKind::Far {
+                reference: self.union_place(&xs),
+            },
+            Pref::Closer(a, b) if a.is_empty() || b.is_empty() => return empty(self, "closer"),
+            Pref::Closer(a, b) => ConstraintKind::Relative {
+                closer: self.union_place(&a),
+                farther: self.union_place(&b),
+            },
+            Pref::Clearance(d) => ConstraintKind::Clearance { distance_m: d },
+            Pref::Circle(x, dir) => {
+                let room = x.room_of(self.q);
+                let wps = loop_waypoints(
+                    self.q,
+                    WaypointShape::Circle,
+                    x.target(self.q),
+                    room,
+                    dir == Direction::Clockwise,
+                    from,
+                );
+                self.shape(c, Shape::Circle, dir, &x, wps)?
+            }
+            Pref::FollowWall(r, dir) | Pref::Patrol(r, dir) => {
+                let patrol = matches!(p, Pref::Patrol(..));
+                let x = PlaceVal::Room(r);
+                let mut wps = loop_waypoints(
+                    self.q,
+                    WaypointShape::Walls,
+                    Target::Room(r),
+                    Some(r),
+                    dir == Direction::Clockwise,
+                    from,
+                );
+                if patrol {
+                    // End at the doorway used to leave the room.
+                    if let Some(d) = self.route_leaving_doorway(r) {
+                        let rl = x.label(self.q);
+                        self.bind(&c.value, "patrol", format!("doorway leaving {rl}"));
+                        wps.push(d);
+                    }
+                }
+                self.shape(
+                    c,
+                    if patrol {
+                        Shape::Patrol
+                    } else {
+                        Shape::FollowWall
+                    },
+                    dir,
+                    &x,
+                    wps,
+                )?
+            }
+        })
+    }
+
+    fn route_leaving_doorway(&mut self, room: u32) -> Option<Vec<Cell>> {
+        if let Some(r) = self.route
+            && let Some(d) = self.q.doorway_leaving(r, room)
+        {
+            return Some(d);
+        }
+        // Before planning (or when the route stays): the doorway nearest the stage's destination.
+        let t = self.stage_target.clone()?;
+        let doors: Vec<Vec<Cell>> = self
+            .q
+            .doorways(room)
+            .into_iter()
+            .map(|p| p.cells.clone())
+            .collect();
+        doors.into_iter().min_by(|a, b| {
+            let da = self
+                .q
+                .distance(Target::Cells(a), t.target(self.q))
+                .unwrap_or(f64::INFINITY);
+            let db = self
+                .q
+                .distance(Target::Cells(b), t.target(self.q))
+                .unwrap_or(f64::INFINITY);
+            da.total_cmp(&db)
+        })
+    }
+
+    fn shape(
+        &mut self,
+        c: &ast::Constraint,
+        shape: Shape,
+        direction: Direction,
+        around: &PlaceVal,
+        wps: Vec<Vec<Cell>>,
+    ) -> Option<ConstraintKind> {
+        let wps: Vec<Vec<Cell>> = wps.into_iter().filter(|w| !w.is_empty()).collect();
+        if wps.len() < 2 {
+            let l = around.label(self.q);
+            self.problems.push(Problem::error(
+                codes::EMPTY_PLACE,
+                c.value.span,
+                format!("no room to move around {l}: fewer than two free waypoints"),
+            ));
+            return None;
+        }
+        let al = around.label(self.q);
+        let waypoints = wps
+            .into_iter()
+            .enumerate()
+            .map(|(i, cells)| Place {
+                kind: PlaceKind::Region {
+                    construction: Construction {
+                        kind: "waypoint".into(),
+                        from: vec![al.clone()],
+                        radius_m: Some(0.25),
+                    },
+                },
+                label: format!("waypoint {} around {al}", i + 1),
+                cells: CellSet::new(cells),
+            })
+            .collect();
+        Some(ConstraintKind::PathShape {
+            shape,
+            direction,
+            around: self.ir_place(around),
+            waypoints,
+        })
+    }
+
+    pub(super) fn ir_place(&self, p: &PlaceVal) -> Place {
+        let q = self.q;
+        let kind = match p {
+            PlaceVal::Object(id) => {
+                let o = q.map().object(*id);
+                PlaceKind::Object {
+                    id: *id,
+                    category: o.map_or(String::new(), |o| o.category.clone()),
+                    room: o.and_then(|o| o.room),
+                }
+            }
+            PlaceVal::Room(id) => PlaceKind::Room {
+                id: *id,
+                category: q
+                    .map()
+                    .room(*id)
+                    .map_or(String::new(), |r| r.category.clone()),
+            },
+            PlaceVal::Region(r) => PlaceKind::Region {
+                construction: r.construction.clone(),
+            },
+        };
+        Place {
+            kind,
+            label: p.label(q),
+            cells: CellSet::new(q.cells(p.target(q)).to_vec()),
+        }
+    }
+
+    /// One place for a non-empty list: itself when single, else a union region.
+    fn union_place(&self, ps: &[PlaceVal]) -> Place {
+        if ps.len() == 1 {
+            return self.ir_place(&ps[0]);
+        }
+        let labels: Vec<String> = ps.iter().map(|p| p.label(self.q)).collect();
+        let mut cells = Vec::new();
+        for p in ps {
+            cells.extend_from_slice(self.q.cells(p.target(self.q)));
+        }
+        Place {
+            kind: PlaceKind::Region {
+                construction: Construction {
+                    kind: "union".into(),
+                    from: labels.clone(),
+                    radius_m: None,
+                },
+            },
+            label: if labels.len() <= 3 {
+                labels.join(" + ")
+            } else {
+                format!("{} + {} more", labels[0], labels.len() - 1)
+            },
+            cells: CellSet::new(cells),
+        }
+    }
+}

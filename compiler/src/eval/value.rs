@@ -1,0 +1,137 @@
+//! Runtime values of grounding.
+
+use crate::ir::{Construction, Direction};
+use m2rc_grammar::ast::Expr;
+use m2rc_stdlib::grid::Cell;
+use m2rc_stdlib::query::{MapQuery, Target};
+use std::rc::Rc;
+
+/// A region built during grounding: its cells and how it was made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Region {
+    pub cells: Vec<Cell>,
+    pub construction: Construction,
+    pub label: String,
+}
+
+/// One place: a map object or room (by id), or a constructed region.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PlaceVal {
+    Object(u32),
+    Room(u32),
+    Region(Rc<Region>),
+}
+
+impl PlaceVal {
+    /// Identity for set operations: objects and rooms by id, regions by their cells.
+    pub fn same(&self, other: &PlaceVal) -> bool {
+        match (self, other) {
+            (PlaceVal::Object(a), PlaceVal::Object(b)) | (PlaceVal::Room(a), PlaceVal::Room(b)) => {
+                a == b
+            }
+            (PlaceVal::Region(a), PlaceVal::Region(b)) => a.cells == b.cells,
+            _ => false,
+        }
+    }
+
+    pub fn target<'a>(&'a self, q: &'a MapQuery) -> Target<'a> {
+        match self {
+            PlaceVal::Object(id) => match q.map().object(*id) {
+                Some(o) => Target::Object(o),
+                None => Target::Cells(&[]),
+            },
+            PlaceVal::Room(id) => Target::Room(*id),
+            PlaceVal::Region(r) => Target::Cells(&r.cells),
+        }
+    }
+
+    /// `bed #12 (bedroom 3)`, `bedroom 3`, or the region's label.
+    pub fn label(&self, q: &MapQuery) -> String {
+        match self {
+            PlaceVal::Object(id) => match q.map().object(*id) {
+                Some(o) => match o.room.and_then(|r| q.map().room(r)) {
+                    Some(r) => format!("{} #{} ({} {})", o.category, o.id, r.category, r.id),
+                    None => format!("{} #{}", o.category, o.id),
+                },
+                None => format!("object #{id}"),
+            },
+            PlaceVal::Room(id) => match q.map().room(*id) {
+                Some(r) => format!("{} {}", r.category, r.id),
+                None => format!("room {id}"),
+            },
+            PlaceVal::Region(r) => r.label.clone(),
+        }
+    }
+
+    /// Where a place sits, in cell units: an object's centre, else the mean of its cells.
+    pub fn center(&self, q: &MapQuery) -> Option<[f64; 2]> {
+        match self {
+            PlaceVal::Object(id) => q.map().object(*id).map(|o| o.center),
+            _ => MapQuery::centroid(q.cells(self.target(q))),
+        }
+    }
+
+    pub fn room_of(&self, q: &MapQuery) -> Option<u32> {
+        q.room_of(self.target(q))
+    }
+}
+
+/// A soft preference, before it is turned into a RouteIR constraint.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Pref {
+    Near(Vec<PlaceVal>),
+    Far(Vec<PlaceVal>),
+    Closer(Vec<PlaceVal>, Vec<PlaceVal>),
+    Circle(PlaceVal, Direction),
+    FollowWall(u32, Direction),
+    Patrol(u32, Direction),
+    Clearance(f64),
+}
+
+/// A lambda, with the environment it was written in.
+#[derive(Clone, Debug)]
+pub struct Lambda {
+    pub param: String,
+    pub body: Expr,
+    pub env: Vec<(String, Value)>,
+}
+
+#[derive(Clone, Debug)]
+pub enum Value {
+    Place(PlaceVal),
+    Set(Vec<PlaceVal>),
+    Int(i64),
+    Number(f64),
+    /// Metres.
+    Distance(f64),
+    Bool(bool),
+    /// One category, or a union.
+    Category(Vec<String>),
+    Direction(Direction),
+    Travel(bool),
+    Pref(Pref),
+    Lambda(Rc<Lambda>),
+    Str(String),
+    /// The value of an expression that failed; its diagnostic is already recorded, and anything
+    /// computed from it is `Unknown` too, so one mistake gives one diagnostic.
+    Unknown,
+}
+
+impl Value {
+    /// The places of a single place or a set.
+    pub fn places(&self) -> Option<Vec<PlaceVal>> {
+        match self {
+            Value::Place(p) => Some(vec![p.clone()]),
+            Value::Set(s) => Some(s.clone()),
+            _ => None,
+        }
+    }
+
+    pub fn number(&self) -> Option<f64> {
+        match self {
+            Value::Int(i) => Some(*i as f64),
+            Value::Number(x) | Value::Distance(x) => Some(*x),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,409 @@
+//! Turns a [`PlanProblem`] into the padded arrays the searches run on: per segment the allowed mask
+//! (traversable minus active avoid regions) and the cost field Φ; per stage the goal mask, its
+//! heuristic and its smoothness mask. Shared by the sequential, global and shortest planners so
+//! they all search exactly the same graph with exactly the same costs.
+
+use crate::astar::{Heuristic, Smooth};
+use crate::costfield::{self, FieldContext};
+use crate::edt;
+use crate::failure::PlanFailure;
+use crate::goal;
+use crate::layout::Layout;
+use crate::problem::{Origin, PlanProblem, SegmentSpec, StageRole, StageSpec, WaypointMode};
+use std::collections::VecDeque;
+
+/// Per-problem arrays.
+pub struct Prepared {
+    pub layout: Layout,
+    /// Row-major traversable mask.
+    pub traversable_plain: Vec<bool>,
+    /// Padded traversable mask.
+    pub traversable: Vec<bool>,
+    /// Row-major squared distance to the nearest clearance obstacle (empty when no term needs it).
+    pub obstacle_sq: Vec<u32>,
+    /// Row-major always-on clearance field (empty when off).
+    pub clearance: Vec<f64>,
+}
+
+pub struct CompiledStage {
+    pub role: StageRole,
+    pub origin: Origin,
+    /// Padded goal mask (target ∩ traversable ∩ ¬avoided).
+    pub goal: Vec<bool>,
+    /// Padded squared distance to the nearest goal cell, when the exact heuristic is on.
+    pub h: Option<Vec<u32>>,
+    /// Padded bounding box of the goal (rows, cols), for the cheap heuristic.
+    pub bbox: (usize, usize, usize, usize),
+    /// Padded smoothness mask.
+    pub smooth: Option<Vec<bool>>,
+}
+
+impl CompiledStage {
+    pub fn heuristic(&self) -> Heuristic<'_> {
+        match &self.h {
+            Some(t) => Heuristic::SquaredTable(t),
+            None => Heuristic::Box {
+                r0: self.bbox.0,
+                r1: self.bbox.1,
+                c0: self.bbox.2,
+                c1: self.bbox.3,
+            },
+        }
+    }
+
+    pub fn smooth(&self, weight: f64) -> Option<Smooth<'_>> {
+        if weight == 0.0 {
+            return None;
+        }
+        self.smooth.as_deref().map(|mask| Smooth { mask, weight })
+    }
+}
+
+pub struct CompiledSegment {
+    /// Padded: traversable and not avoided.
+    pub allowed: Vec<bool>,
+    /// Padded Φ; `None` when it is zero everywhere.
+    pub phi: Option<Vec<f64>>,
+    /// Row-major avoid masks with their origins, for failure diagnosis.
+    pub forbids: Vec<(Vec<bool>, Origin)>,
+    pub stages: Vec<CompiledStage>,
+}
+
+pub fn prepare(p: &PlanProblem) -> Result<Prepared, PlanFailure> {
+    let n = p.traversable.n();
+    let invalid = |message: String| PlanFailure::InvalidProblem { message };
+    if n == 0 {
+        return Err(invalid("the map grid is empty".into()));
+    }
+    if !(p.resolution.is_finite() && p.resolution > 0.0) {
+        return Err(invalid(format!(
+            "resolution must be a positive number of metres, got {}",
+            p.resolution
+        )));
+    }
+    p.profile.validate().map_err(invalid)?;
+    if let Some(o) = &p.obstacles
+        && o.n() != n
+    {
+        return Err(invalid(format!(
+            "obstacle mask is {0}×{0}, the map is {n}×{n}",
+            o.n()
+        )));
+    }
+    if n > 40_000 {
+        return Err(invalid(format!("a {n}×{n} grid is too large to plan on")));
+    }
+    let layout = Layout::new(n);
+    let traversable_plain = p.traversable.data().to_vec();
+    let traversable = layout.pad(&traversable_plain, false);
+    let needs_obstacles = (p.profile.clearance && p.profile.clearance_weight > 0.0)
+        || (p.profile.soft_scale > 0.0
+            && p.segments
+                .iter()
+                .flat_map(|s| &s.soft)
+                .any(|t| matches!(t.kind, crate::problem::SoftKind::Clearance { .. })));
+    let (obstacle_sq, clearance) = if needs_obstacles {
+        let mut obs: Vec<bool> = match &p.obstacles {
+            Some(o) => o.data().to_vec(),
+            None => traversable_plain.iter().map(|t| !t).collect(),
+        };
+        if !obs.iter().any(|v| *v) {
+            obs = traversable_plain.iter().map(|t| !t).collect();
+        }
+        let d = edt::squared(&obs, n);
+        let ctx = FieldContext {
+            n,
+            resolution: p.resolution,
+            profile: &p.profile,
+            obstacle_sq: &d,
+        };
+        let c = if p.profile.clearance {
+            costfield::clearance_field(&ctx)
+        } else {
+            Vec::new()
+        };
+        (d, c)
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    Ok(Prepared {
+        layout,
+        traversable_plain,
+        traversable,
+        obstacle_sq,
+        clearance,
+    })
+}
+
+/// The stages actually planned, after the profile's waypoint mode.
+fn effective_stages(spec: &SegmentSpec, mode: WaypointMode) -> Vec<StageSpec> {
+    match mode {
+        WaypointMode::Stages => spec.stages.clone(),
+        WaypointMode::Drop => spec
+            .stages
+            .iter()
+            .filter(|s| s.role != StageRole::Waypoint)
+            .cloned()
+            .collect(),
+        WaypointMode::Collapse => {
+            let mut out: Vec<StageSpec> = Vec::new();
+            let mut run: Vec<StageSpec> = Vec::new();
+            let flush = |run: &mut Vec<StageSpec>, out: &mut Vec<StageSpec>| {
+                if let Some(first) = run.first() {
+                    let cells: Vec<_> = run.iter().flat_map(|s| target_cells(&s.target)).collect();
+                    out.push(StageSpec {
+                        target: crate::problem::Target::Region {
+                            cells: crate::problem::Area::Cells(cells),
+                            fallback: None,
+                        },
+                        role: StageRole::Waypoint,
+                        smoothness: None,
+                        origin: first.origin,
+                    });
+                }
+                run.clear();
+            };
+            for s in &spec.stages {
+                if s.role == StageRole::Waypoint {
+                    run.push(s.clone());
+                } else {
+                    flush(&mut run, &mut out);
+                    out.push(s.clone());
+                }
+            }
+            flush(&mut run, &mut out);
+            out
+        }
+    }
+}
+
+fn target_cells(t: &crate::problem::Target) -> Vec<m2rc_stdlib::grid::Cell> {
+    use crate::problem::Target;
+    match t {
+        Target::Position(c) => vec![*c],
+        Target::Room(a) | Target::Region { cells: a, .. } => a.cells(),
+        Target::Object { footprint, .. } => footprint.clone(),
+    }
+}
+
+pub fn compile_segment(
+    p: &PlanProblem,
+    prep: &Prepared,
+    index: usize,
+    spec: &SegmentSpec,
+) -> Result<CompiledSegment, PlanFailure> {
+    let n = prep.layout.n;
+    let l = prep.layout;
+    let forbids: Vec<(Vec<bool>, Origin)> = spec
+        .forbidden
+        .iter()
+        .map(|f| (f.cells.to_mask(n), f.origin))
+        .collect();
+    let mut forbidden = vec![false; n * n];
+    for (m, _) in &forbids {
+        forbidden.iter_mut().zip(m).for_each(|(a, b)| *a |= *b);
+    }
+    let allowed_plain: Vec<bool> = prep
+        .traversable_plain
+        .iter()
+        .zip(&forbidden)
+        .map(|(t, f)| *t && !*f)
+        .collect();
+
+    // Φ.
+    let mut phi_plain = if prep.clearance.is_empty() {
+        vec![0.0; n * n]
+    } else {
+        prep.clearance.clone()
+    };
+    if p.profile.soft_scale > 0.0 {
+        let ctx = FieldContext {
+            n,
+            resolution: p.resolution,
+            profile: &p.profile,
+            obstacle_sq: &prep.obstacle_sq,
+        };
+        for t in &spec.soft {
+            costfield::add_term(&mut phi_plain, &ctx, t);
+        }
+    }
+    let phi = phi_plain
+        .iter()
+        .any(|v| *v != 0.0)
+        .then(|| l.pad(&phi_plain, 0.0));
+
+    let radius = goal::goal_radius_cells(p.profile.goal_radius_m, p.resolution);
+    let mut stages = Vec::new();
+    for (si, st) in effective_stages(spec, p.profile.waypoints)
+        .iter()
+        .enumerate()
+    {
+        let raw = goal::goal_mask(&st.target, &prep.traversable_plain, n, radius);
+        if !raw.iter().any(|v| *v) {
+            return Err(PlanFailure::TargetEmpty {
+                segment: index,
+                stage: si,
+                origin: st.origin,
+            });
+        }
+        let goal_plain: Vec<bool> = raw
+            .iter()
+            .zip(&allowed_plain)
+            .map(|(g, a)| *g && *a)
+            .collect();
+        if !goal_plain.iter().any(|v| *v) {
+            let culprits = forbids
+                .iter()
+                .filter(|(m, _)| raw.iter().zip(m).any(|(g, f)| *g && *f))
+                .map(|(_, o)| *o)
+                .collect();
+            return Err(PlanFailure::GoalBlocked {
+                segment: index,
+                stage: si,
+                origin: st.origin,
+                forbids: culprits,
+            });
+        }
+        let h = p
+            .profile
+            .edt_heuristic
+            .then(|| l.pad(&edt::squared(&goal_plain, n), u32::MAX));
+        let (mut r0, mut r1, mut c0, mut c1) = (usize::MAX, 0, usize::MAX, 0);
+        for (i, _) in goal_plain.iter().enumerate().filter(|(_, g)| **g) {
+            let (r, c) = (i / n + 1, i % n + 1);
+            r0 = r0.min(r);
+            r1 = r1.max(r);
+            c0 = c0.min(c);
+            c1 = c1.max(c);
+        }
+        let smooth = st.smoothness.as_ref().map(|a| {
+            let m: Vec<bool> = a
+                .to_mask(n)
+                .iter()
+                .zip(&prep.traversable_plain)
+                .map(|(a, t)| *a && *t)
+                .collect();
+            l.pad(&m, false)
+        });
+        stages.push(CompiledStage {
+            role: st.role,
+            origin: st.origin,
+            goal: l.pad(&goal_plain, false),
+            h,
+            bbox: (r0, r1, c0, c1),
+            smooth,
+        });
+    }
+    Ok(CompiledSegment {
+        allowed: l.pad(&allowed_plain, false),
+        phi,
+        forbids,
+        stages,
+    })
+}
+
+/// Whether any goal cell is reachable from `start` over `allowed` (8-connected, no corner cutting
+/// on `traversable`). Used only to explain failures.
+pub fn reachable(
+    layout: Layout,
+    traversable: &[bool],
+    allowed: &[bool],
+    goal: &[bool],
+    start: usize,
+) -> bool {
+    let offs = layout.offsets();
+    let w = layout.w as isize;
+    let mut seen = vec![false; layout.len()];
+    let mut queue = VecDeque::from([start]);
+    seen[start] = true;
+    while let Some(u) = queue.pop_front() {
+        if goal[u] {
+            return true;
+        }
+        for (k, off) in offs.iter().enumerate() {
+            let v = (u as isize + off) as usize;
+            if seen[v] || !allowed[v] {
+                continue;
+            }
+            if k >= 4 {
+                let (dr, dc) = crate::layout::MOVES[k];
+                if !traversable[(u as isize + dr as isize * w) as usize]
+                    || !traversable[(u as isize + dc as isize) as usize]
+                {
+                    continue;
+                }
+            }
+            seen[v] = true;
+            queue.push_back(v);
+        }
+    }
+    false
+}
+
+/// Explains why stage `stage` of `seg` cannot be reached from `start` (padded index).
+pub fn explain_unreachable(
+    p: &PlanProblem,
+    prep: &Prepared,
+    seg: &CompiledSegment,
+    segment: usize,
+    stage: usize,
+    start: usize,
+) -> PlanFailure {
+    let l = prep.layout;
+    let n = l.n;
+    let st = &seg.stages[stage];
+    let from = l.cell(start);
+    // The stage's goal without any avoid region.
+    let radius = goal::goal_radius_cells(p.profile.goal_radius_m, p.resolution);
+    let spec_stages = effective_stages(&p.segments[segment], p.profile.waypoints);
+    let raw = l.pad(
+        &goal::goal_mask(
+            &spec_stages[stage].target,
+            &prep.traversable_plain,
+            n,
+            radius,
+        ),
+        false,
+    );
+    if seg.forbids.is_empty() || !reachable(l, &prep.traversable, &prep.traversable, &raw, start) {
+        return PlanFailure::Unreachable {
+            segment,
+            stage,
+            origin: st.origin,
+            from,
+        };
+    }
+    // Which avoid region, removed on its own, reconnects the target? (Bounded: each test is a BFS.)
+    let mut culprits = Vec::new();
+    if seg.forbids.len() <= 16 {
+        for skip in 0..seg.forbids.len() {
+            let mut others = vec![false; n * n];
+            for (j, (m, _)) in seg.forbids.iter().enumerate() {
+                if j != skip {
+                    others.iter_mut().zip(m).for_each(|(a, b)| *a |= *b);
+                }
+            }
+            let others = l.pad(&others, false);
+            let allowed: Vec<bool> = prep
+                .traversable
+                .iter()
+                .zip(&others)
+                .map(|(t, f)| *t && !*f)
+                .collect();
+            let goal: Vec<bool> = raw.iter().zip(&allowed).map(|(g, a)| *g && *a).collect();
+            if allowed[start] && reachable(l, &prep.traversable, &allowed, &goal, start) {
+                culprits.push(seg.forbids[skip].1);
+            }
+        }
+    }
+    if culprits.is_empty() {
+        culprits = seg.forbids.iter().map(|(_, o)| *o).collect();
+    }
+    PlanFailure::UnreachableUnderAvoids {
+        segment,
+        stage,
+        origin: st.origin,
+        from,
+        forbids: culprits,
+    }
+}
