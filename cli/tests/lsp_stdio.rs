@@ -115,7 +115,8 @@ fn lsp_over_stdio_diagnoses_edits_and_exits_cleanly() {
     );
     s.send(json!({"jsonrpc": "2.0", "method": "initialized", "params": {}}));
 
-    let uri = "file:///work/ünïcode/route.m2r";
+    // Clients percent-encode non-ASCII path characters in URIs (RFC 3986).
+    let uri = "file:///work/%C3%BCn%C3%AFcode/route.m2r";
     let text = "// “kitchen” → bedroom\nlet c = objects(chiar).nearest(start)\nroute { go c }\n";
     s.send(
         json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {

@@ -98,7 +98,13 @@ pub fn plan_global(p: &PlanProblem) -> PlannedRoute {
         return incumbent;
     };
     match search(p, &prep, &compiled) {
-        Some(global) if !incumbent.is_success() || global.cost <= incumbent.cost => global,
+        // Equal costs up to summation order count as a tie, which the global plan wins.
+        Some(global)
+            if !incumbent.is_success()
+                || global.cost <= incumbent.cost + 1e-9 * incumbent.cost.abs().max(1.0) =>
+        {
+            global
+        }
         _ => {
             incumbent.planner = "global".into();
             incumbent

@@ -1,6 +1,6 @@
 //! Generated documentation must match its sources: `docs/language.md` is the hand-written intro
 //! (`docs/src/language-intro.md`), the built-in table from `stdlib::builtins`, and the real
-//! instruction programs of `tests/ui/real/`. Run with `M2RC_BLESS=1` to rewrite it.
+//! instruction programs of `tests/ui/real/`. Run with `UPDATE_DOCS=1` to rewrite it.
 
 use std::path::{Path, PathBuf};
 
@@ -49,13 +49,13 @@ fn language_reference() -> String {
 fn language_reference_is_up_to_date() {
     let path = root().join("docs/language.md");
     let want = language_reference();
-    if std::env::var_os("M2RC_BLESS").is_some() {
+    if std::env::var_os("UPDATE_DOCS").is_some() {
         std::fs::write(&path, &want).unwrap();
         return;
     }
     let have = std::fs::read_to_string(&path).unwrap_or_default();
     assert!(
         have == want,
-        "docs/language.md is stale: run `M2RC_BLESS=1 cargo test -p m2rc-tests --test docs`"
+        "docs/language.md is stale: run `UPDATE_DOCS=1 cargo test -p m2rc-tests --test docs`"
     );
 }

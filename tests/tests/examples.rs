@@ -119,20 +119,20 @@ fn check_route(name: &str, map: &SemanticMap, c: &CompiledRoute) {
             k = j;
         }
         // No cell entered during the stage lies in an active avoid region (inside its scope).
-        for j in (from + 1).max(1)..=end {
+        for &cell in &t[(from + 1).max(1)..=end] {
             for con in c.ir.active(i) {
                 if let ConstraintKind::Avoid { place } = &con.kind {
-                    let inside = place.cells.contains(t[j])
+                    let inside = place.cells.contains(cell)
                         && con
                             .spatial_scope
                             .as_ref()
-                            .is_none_or(|s| s.cells.contains(t[j]));
+                            .is_none_or(|s| s.cells.contains(cell));
                     assert!(
                         !inside,
                         "{name}: stage {} enters {} at {:?}",
                         i + 1,
                         place.label,
-                        t[j]
+                        cell
                     );
                 }
             }

@@ -161,7 +161,9 @@ fn error_programs_report_exactly_their_annotated_diagnostics() {
             ));
             return;
         }
-        insta::assert_snapshot!(format!("----- SOURCE\n{source}\n----- DIAGNOSTICS\n{rendered}"));
+        insta::assert_snapshot!(format!(
+            "----- SOURCE\n{source}\n----- DIAGNOSTICS\n{rendered}"
+        ));
     });
     let failures = failures.into_inner();
     assert!(

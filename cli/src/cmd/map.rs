@@ -249,3 +249,21 @@ fn render(args: RenderArgs) -> Result<ExitCode> {
     }
     Ok(ExitCode::SUCCESS)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn info_summarises_the_demo() {
+        let map = m2rc_stdlib::demo::demo_map().unwrap();
+        let v = info_json(&map);
+        assert_eq!(v["grid_size"], json!(map.n()));
+        assert_eq!(v["rooms"].as_array().unwrap().len(), 7);
+        assert_eq!(v["adjacency"].as_array().unwrap().len(), 6);
+        assert_eq!(v["categories"]["window"], json!(6));
+        let text = info_text(&map);
+        assert!(text.contains("rooms 7\n"), "{text}");
+        assert!(text.contains("  living_room_1 - kitchen_1\n"), "{text}");
+    }
+}

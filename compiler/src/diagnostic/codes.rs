@@ -276,6 +276,24 @@ codes! {
         "";
     MalformedIr = "E0608", Error, "malformed RouteIR",
         "";
+
+    // --- E07xx: planning (raised by m2rc_planner::PlanFailure::code) --------------------------
+    StartBlocked = "E0701", Error, "start position is not traversable",
+        "";
+    StartInAvoid = "E0702", Error, "start lies inside an active avoid region",
+        "";
+    PlanTargetEmpty = "E0703", Error, "stage target covers no traversable cell",
+        "";
+    GoalBlocked = "E0704", Error, "stage target is covered by avoid regions",
+        "";
+    PlanUnreachable = "E0705", Error, "stage target is unreachable",
+        "";
+    UnreachableUnderAvoids = "E0706", Error, "stage target is unreachable under the active avoids",
+        "";
+    BudgetExceeded = "E0707", Error, "search budget exhausted",
+        "";
+    InvalidPlanProblem = "E0708", Error, "invalid planning problem",
+        "";
 }
 
 #[cfg(test)]

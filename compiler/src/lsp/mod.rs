@@ -72,10 +72,14 @@ struct Documents {
 /// Runs the initialize handshake and then serves until `shutdown`/`exit`.
 pub fn serve(connection: &Connection, vocab: &Vocabulary) -> Result<(), LspError> {
     let caps = serde_json::to_value(capabilities()).unwrap_or_default();
-    connection.initialize(serde_json::json!({
-        "capabilities": caps,
-        "serverInfo": { "name": "m2rc", "version": env!("CARGO_PKG_VERSION") },
-    }))?;
+    let (id, _params) = connection.initialize_start()?;
+    connection.initialize_finish(
+        id,
+        serde_json::json!({
+            "capabilities": caps,
+            "serverInfo": { "name": "m2rc", "version": env!("CARGO_PKG_VERSION") },
+        }),
+    )?;
     main_loop(connection, vocab)
 }
 

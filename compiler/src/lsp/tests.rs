@@ -24,7 +24,7 @@ impl Client {
             next_id: 1,
         };
         let init = c.request("initialize", serde_json::json!({ "capabilities": {} }));
-        assert!(init.get("capabilities").is_some(), "{init}");
+        assert_eq!(init["capabilities"]["hoverProvider"], true, "{init}");
         c.notify("initialized", serde_json::json!({}));
         c
     }
