@@ -113,7 +113,7 @@ fn non_canonical_layouts_are_normalised() {
     ));
     assert!(
         out.contains(
-            "let big = rooms().where(r => r.area() > 20.0 and not r.is_empty() == false)\n"
+            "let big = rooms().where(r => r.area() > 20.0 and not objects(chair).in(r).is_empty() == true)\n"
         )
     );
 }
