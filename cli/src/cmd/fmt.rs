@@ -6,6 +6,7 @@
 use crate::io::{read_to_string, write_atomic};
 use anyhow::{Context, Result};
 use clap::Args;
+use m2rc_compiler::diagnostic::{Diagnostic, render_text};
 use m2rc_grammar::{ParseError, parse, print_with_comments};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -64,9 +65,11 @@ pub fn run(args: FmtArgs) -> Result<ExitCode> {
         let formatted = match format_source(&source) {
             Ok(f) => f,
             Err(errors) => {
-                for e in &errors {
-                    eprintln!("{}", render_error(shown, &source, e));
-                }
+                let diags: Vec<Diagnostic> = errors.iter().map(Diagnostic::from_parse).collect();
+                eprint!(
+                    "{}",
+                    render_text(&diags, &shown.display().to_string(), &source)
+                );
                 eprintln!(
                     "{}: not formatted: {} parse error(s)",
                     shown.display(),
@@ -96,33 +99,6 @@ pub fn run(args: FmtArgs) -> Result<ExitCode> {
     }
 }
 
-/// `path:line:col: error[E0002]: message`, then the help, if any (1-based line and column,
-/// columns in characters).
-fn render_error(path: &Path, source: &str, e: &ParseError) -> String {
-    let (line, col) = line_col(source, e.span.start);
-    let mut s = format!(
-        "{}:{line}:{col}: error[{}]: {}",
-        path.display(),
-        e.code(),
-        e.message
-    );
-    for (span, label) in &e.labels {
-        let (l, c) = line_col(source, span.start);
-        s.push_str(&format!("\n  {l}:{c}: {label}"));
-    }
-    if let Some(help) = &e.help {
-        s.push_str(&format!("\n  help: {help}"));
-    }
-    s
-}
-
-fn line_col(source: &str, offset: usize) -> (usize, usize) {
-    let before = source.get(..offset.min(source.len())).unwrap_or(source);
-    let line = before.matches('\n').count() + 1;
-    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-    (line, col)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -141,19 +117,15 @@ mod tests {
 
     #[test]
     fn refuses_a_file_with_errors() {
-        let errors = format_source("let a = \nroute { go a }").expect_err("has an error");
+        let src = "let a = \nroute { go a }";
+        let errors = format_source(src).expect_err("has an error");
         assert_eq!(errors.len(), 1);
-        let rendered = render_error(Path::new("x.m2r"), "let a = \nroute { go a }", &errors[0]);
-        assert_eq!(
-            rendered,
-            "x.m2r:2:1: error[E0002]: expected an expression, found `route`"
+        let diags: Vec<Diagnostic> = errors.iter().map(Diagnostic::from_parse).collect();
+        let rendered = render_text(&diags, "x.m2r", src);
+        assert!(
+            rendered.contains("error[E0002]: expected an expression, found `route`")
+                && rendered.contains("x.m2r:2:1"),
+            "{rendered}"
         );
-    }
-
-    #[test]
-    fn line_and_column_are_one_based() {
-        assert_eq!(line_col("ab\ncd", 0), (1, 1));
-        assert_eq!(line_col("ab\ncd", 4), (2, 2));
-        assert_eq!(line_col("ab", 99), (1, 3));
     }
 }
