@@ -14,7 +14,8 @@ use m2rc_compiler::eval::{GroundOptions, ground_checked};
 use m2rc_compiler::ir::{Constraint, RouteIr, Stage};
 use m2rc_compiler::verify::verify;
 use m2rc_grammar::ast::Span;
-use m2rc_planner::lower::{lower, span_of};
+use m2rc_planner::context::MapContext;
+use m2rc_planner::lower::{lower_with, span_of};
 use m2rc_planner::{CostProfile, PlannedRoute, PlannerKind, plan};
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::map::SemanticMap;
@@ -76,6 +77,7 @@ pub fn compile_and_plan(
     let mut route: Option<Vec<Cell>> = None;
     let mut last: Option<(RouteIr, PlannedRoute)> = None;
     let mut rounds = 0;
+    let mut ctx: Option<MapContext> = None;
     loop {
         let g = ground_checked(
             &checked,
@@ -120,7 +122,17 @@ pub fn compile_and_plan(
                 });
             }
         }
-        let problem = lower(&ir, map, opts.profile.clone()).map_err(|m| {
+        // One planning context per map: the re-plan rounds share its distance fields.
+        let c = match ctx.take() {
+            Some(c) => Ok(c),
+            None => MapContext::new(map),
+        };
+        let problem = c.and_then(|c| {
+            let p = lower_with(&ir, map, &c, opts.profile.clone());
+            ctx = Some(c);
+            p
+        });
+        let problem = problem.map_err(|m| {
             with_warnings(
                 vec![Diagnostic::new(Code::MalformedIr, Span::default(), m)],
                 &warnings,

@@ -7,6 +7,11 @@
 //! * `plan/*`: a complete four-stage plan (two segments, an avoid region, near/far terms and the
 //!   always-on clearance term) from a `PlanProblem`, i.e. including every distance transform.
 //!
+//! * `full_plan/*`: what a user waits for after grounding: `lower` of a RouteIR grounded from a real
+//!   `.m2r` program (four planned stages; near, far, relative and clearance preferences, an avoid
+//!   region, spatial and stage scopes) plus the sequential plan, on fixture house 149; cold (map
+//!   indexed inside the call) and with a per-map `MapContext` built once.
+//!
 //! Maps: the largest house of `../shared/procthor/fixtures` imported at 0.05 m when the importer can
 //! read it, and a synthetic 700×700 house (walls, doors, furniture) that always exists.
 
@@ -15,8 +20,9 @@ use m2rc_planner::astar::{AStar, Heuristic, Outcome, Query, Space};
 use m2rc_planner::layout::{Layout, MOVES, NO_HEADING};
 use m2rc_planner::{
     Area, CostProfile, Forbid, Origin, PlanProblem, SegmentSpec, SoftKind, SoftTerm, StageRole,
-    StageSpec, Target, compile, costfield, edt, plan_global, plan_sequential,
+    StageSpec, Target, compile, costfield, plan_global, plan_sequential,
 };
+use m2rc_stdlib::field;
 use m2rc_stdlib::grid::{Cell, Grid};
 use std::collections::VecDeque;
 use std::hint::black_box;
@@ -211,19 +217,21 @@ fn prepare_query(scene: &Scene) -> Prepared {
     let g = farthest(scene);
     let mut goal = vec![false; n * n];
     goal[g] = true;
-    let h = l.pad(&edt::distance(&goal, n), 0.0);
+    let h = l.pad(&field::distances(&goal, n), 0.0);
     let profile = CostProfile::reference();
-    let od = edt::squared(&scene.obstacles, n);
+    let od = field::squared_distances(&scene.obstacles, n);
+    let trav = l.pad(&scene.traversable, false);
     let ctx = costfield::FieldContext {
         n,
         resolution: 0.05,
         profile: &profile,
         obstacle_sq: &od,
+        runs: &[],
     };
     let phi = l.pad(&costfield::clearance_field(&ctx), 0.0);
     Prepared {
         layout: l,
-        trav: l.pad(&scene.traversable, false),
+        trav,
         goal: l.pad(&goal, false),
         h,
         phi,
@@ -388,6 +396,7 @@ fn plan_problem(scene: &Scene) -> PlanProblem {
         start: scene.start,
         segments: vec![seg1, seg2],
         profile: CostProfile::reference(),
+        map_fields: None,
     }
 }
 
@@ -459,5 +468,70 @@ fn benches(c: &mut Criterion) {
     }
 }
 
-criterion_group!(planner, benches);
+/// House 149 of the fixtures, the largest, at 0.05 m.
+const HOUSE: &str = "procthor10k_uniform_hard_val_150_149.json";
+
+/// A real instruction on house 149 (whose start reaches only the start bathroom and one bedroom):
+/// four planned stages, every soft-term kind, an avoid region, spatial and stage scopes.
+const PROGRAM: &str = include_str!("house149_tour.m2r");
+
+fn full_plan(c: &mut Criterion) {
+    use m2rc_compiler::check::check;
+    use m2rc_compiler::eval::{GroundOptions, ground_checked};
+    use m2rc_planner::context::MapContext;
+    use m2rc_planner::lower::{lower, lower_with};
+    use m2rc_stdlib::query::MapQuery;
+    use m2rc_stdlib::vocab::Vocabulary;
+
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/procthor/fixtures")
+        .join(HOUSE);
+    let Ok(map) = m2rc_stdlib::load::load_map(&path.to_string_lossy()) else {
+        eprintln!("fixture house {HOUSE} not found beside the repository; skipping full_plan");
+        return;
+    };
+    let checked = check(PROGRAM, &Vocabulary::from_map(&map));
+    assert!(!checked.has_errors(), "{:#?}", checked.diagnostics);
+    let q = MapQuery::new(&map);
+    let g = ground_checked(&checked, PROGRAM, &q, &GroundOptions::default());
+    let ir = g.ir.expect("the bench program grounds on house 149");
+    assert!(
+        !g.problems.iter().any(|p| p.is_error()),
+        "{:#?}",
+        g.problems
+    );
+    let profile = CostProfile::reference();
+    let problem = lower(&ir, &map, profile.clone()).expect("lowers");
+    let r = plan_sequential(&problem);
+    assert!(r.is_success(), "{:?}", r.failure);
+    eprintln!(
+        "[house 149] full plan: {:?}, {} segments, {} stages, {:.2} m, cost {:.3}, {} expansions",
+        r.status,
+        r.segments.len(),
+        r.segments.iter().map(|s| s.stages.len()).sum::<usize>(),
+        r.length_m,
+        r.cost,
+        r.expansions
+    );
+    let mut group = c.benchmark_group("full_plan/house_149");
+    group.sample_size(20);
+    // Cold: the map is indexed and every field computed inside the timed call.
+    group.bench_function("lower_and_plan_sequential", |b| {
+        b.iter(|| {
+            let p = lower(black_box(&ir), &map, profile.clone()).expect("lowers");
+            black_box(plan_sequential(&p))
+        })
+    });
+    // Warm: one context per map, as in the re-plan loop, the runner and the language server.
+    let ctx = MapContext::new(&map).expect("indexes");
+    group.bench_function("lower_with_context_and_plan_sequential", |b| {
+        b.iter(|| {
+            let p = lower_with(black_box(&ir), &map, &ctx, profile.clone()).expect("lowers");
+            black_box(plan_sequential(&p))
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(planner, benches, full_plan);
 criterion_main!(planner);

@@ -11,6 +11,7 @@
 //! current search, so starting a search costs nothing proportional to the grid.
 
 use crate::layout::{Layout, NO_HEADING, turn_table};
+use m2rc_stdlib::field::LazySquaredDistances;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -36,6 +37,8 @@ pub enum Heuristic<'a> {
     /// A per-cell table of squared distances (padded); the square root is taken when a node is
     /// pushed, which halves the table's memory traffic and skips a full pass to build it.
     SquaredTable(&'a [u32]),
+    /// [`Heuristic::SquaredTable`] computed a row at a time as the search reaches it (padded).
+    LazySquared(&'a LazySquaredDistances),
     /// Straight-line distance to a box `[r0, r1] × [c0, c1]` of padded rows and columns.
     Box {
         r0: usize,
@@ -183,6 +186,7 @@ impl AStar {
                 Heuristic::Zero => 0.0,
                 Heuristic::Table(t) => t[i],
                 Heuristic::SquaredTable(t) => (t[i] as f64).sqrt(),
+                Heuristic::LazySquared(t) => (t.get(i) as f64).sqrt(),
                 Heuristic::Box { r0, r1, c0, c1 } => {
                     let (r, c) = (i / w, i % w);
                     let dr = if r < r0 { r0 - r } else { r.saturating_sub(r1) } as f64;

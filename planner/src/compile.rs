@@ -4,13 +4,16 @@
 //! they all search exactly the same graph with exactly the same costs.
 
 use crate::astar::{Heuristic, Smooth};
-use crate::costfield::{self, FieldContext};
-use crate::edt;
+use crate::context::MapFields;
+use crate::costfield::{self, FieldContext, FieldScratch, Run};
 use crate::failure::PlanFailure;
 use crate::goal;
 use crate::layout::Layout;
 use crate::problem::{Origin, PlanProblem, SegmentSpec, StageRole, StageSpec, WaypointMode};
+use m2rc_stdlib::field::{self, LazySquaredDistances};
+use std::cell::RefCell;
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 /// Per-problem arrays.
 pub struct Prepared {
@@ -20,9 +23,51 @@ pub struct Prepared {
     /// Padded traversable mask.
     pub traversable: Vec<bool>,
     /// Row-major squared distance to the nearest clearance obstacle (empty when no term needs it).
-    pub obstacle_sq: Vec<u32>,
-    /// Row-major always-on clearance field (empty when off).
-    pub clearance: Vec<f64>,
+    pub obstacle_sq: Arc<Vec<u32>>,
+    /// Padded always-on clearance field (`None` when off).
+    pub clearance: Option<Arc<Vec<f64>>>,
+    /// Traversable cells by runs, for the cost fields.
+    pub runs: Vec<Run>,
+    /// Buffers reused by the transforms of every segment.
+    scratch: RefCell<Scratch>,
+    /// Arrays of finished segments, for the next ones; handed to `map_fields` when done.
+    pub(crate) buffers: RefCell<Buffers>,
+    map_fields: Option<Arc<MapFields>>,
+}
+
+/// Large per-segment arrays kept for reuse: a fresh 4 MB Φ or 2 MB heuristic table costs more in page
+/// faults than filling it does.
+#[derive(Debug, Default)]
+pub struct Buffers {
+    pub(crate) phi: Vec<Vec<f64>>,
+    pub(crate) h: Vec<LazySquaredDistances>,
+    pub(crate) field: FieldScratch,
+}
+
+impl Buffers {
+    /// Keeps the arrays of a segment no search will read again.
+    pub(crate) fn recycle(&mut self, seg: CompiledSegment) {
+        if let Some(phi) = seg.phi.and_then(|a| Arc::try_unwrap(a).ok()) {
+            self.phi.push(phi);
+        }
+        self.h.extend(seg.stages.into_iter().filter_map(|s| s.h));
+    }
+}
+
+impl Drop for Prepared {
+    fn drop(&mut self) {
+        if let Some(f) = &self.map_fields {
+            let mut buffers = std::mem::take(self.buffers.get_mut());
+            buffers.field = std::mem::take(&mut self.scratch.get_mut().field);
+            buffers.field.forget();
+            f.stash(buffers);
+        }
+    }
+}
+
+#[derive(Default)]
+struct Scratch {
+    field: FieldScratch,
 }
 
 pub struct CompiledStage {
@@ -30,8 +75,10 @@ pub struct CompiledStage {
     pub origin: Origin,
     /// Padded goal mask (target ∩ traversable ∩ ¬avoided).
     pub goal: Vec<bool>,
-    /// Padded squared distance to the nearest goal cell, when the exact heuristic is on.
-    pub h: Option<Vec<u32>>,
+    /// Padded squared distance to the nearest goal cell, when the exact heuristic is on, computed
+    /// row by row as the search reads it. Exact on every cell of the map; the padding border holds
+    /// no meaningful value (never entered).
+    pub h: Option<LazySquaredDistances>,
     /// Padded bounding box of the goal (rows, cols), for the cheap heuristic.
     pub bbox: (usize, usize, usize, usize),
     /// Padded smoothness mask.
@@ -41,7 +88,7 @@ pub struct CompiledStage {
 impl CompiledStage {
     pub fn heuristic(&self) -> Heuristic<'_> {
         match &self.h {
-            Some(t) => Heuristic::SquaredTable(t),
+            Some(t) => Heuristic::LazySquared(t),
             None => Heuristic::Box {
                 r0: self.bbox.0,
                 r1: self.bbox.1,
@@ -62,8 +109,9 @@ impl CompiledStage {
 pub struct CompiledSegment {
     /// Padded: traversable and not avoided.
     pub allowed: Vec<bool>,
-    /// Padded Φ; `None` when it is zero everywhere.
-    pub phi: Option<Vec<f64>>,
+    /// Padded Φ, exact on traversable cells (a search reads nothing else); `None` when it is zero
+    /// on all of them. Shared with the problem's clearance field when the segment adds no term.
+    pub phi: Option<Arc<Vec<f64>>>,
     /// Row-major avoid masks with their origins, for failure diagnosis.
     pub forbids: Vec<(Vec<bool>, Origin)>,
     pub stages: Vec<CompiledStage>,
@@ -96,6 +144,7 @@ pub fn prepare(p: &PlanProblem) -> Result<Prepared, PlanFailure> {
     let layout = Layout::new(n);
     let traversable_plain = p.traversable.data().to_vec();
     let traversable = layout.pad(&traversable_plain, false);
+    let runs = costfield::traversable_runs(&traversable_plain, n);
     let needs_obstacles = (p.profile.clearance && p.profile.clearance_weight > 0.0)
         || (p.profile.soft_scale > 0.0
             && p.segments
@@ -103,35 +152,61 @@ pub fn prepare(p: &PlanProblem) -> Result<Prepared, PlanFailure> {
                 .flat_map(|s| &s.soft)
                 .any(|t| matches!(t.kind, crate::problem::SoftKind::Clearance { .. })));
     let (obstacle_sq, clearance) = if needs_obstacles {
-        let mut obs: Vec<bool> = match &p.obstacles {
-            Some(o) => o.data().to_vec(),
-            None => traversable_plain.iter().map(|t| !t).collect(),
+        let shared = p.map_fields.as_ref().filter(|f| f.n() == n);
+        let d = match shared {
+            Some(f) => f.obstacle_sq(),
+            None => {
+                let mut obs: Vec<bool> = match &p.obstacles {
+                    Some(o) => o.data().to_vec(),
+                    None => traversable_plain.iter().map(|t| !t).collect(),
+                };
+                if !obs.iter().any(|v| *v) {
+                    obs = traversable_plain.iter().map(|t| !t).collect();
+                }
+                Arc::new(field::squared_distances(&obs, n))
+            }
         };
-        if !obs.iter().any(|v| *v) {
-            obs = traversable_plain.iter().map(|t| !t).collect();
-        }
-        let d = edt::squared(&obs, n);
-        let ctx = FieldContext {
-            n,
-            resolution: p.resolution,
-            profile: &p.profile,
-            obstacle_sq: &d,
-        };
-        let c = if p.profile.clearance {
-            costfield::clearance_field(&ctx)
-        } else {
-            Vec::new()
-        };
+        let c = p.profile.clearance.then(|| {
+            let make = || {
+                let ctx = FieldContext {
+                    n,
+                    resolution: p.resolution,
+                    profile: &p.profile,
+                    obstacle_sq: &d,
+                    runs: &[],
+                };
+                layout.pad(&costfield::clearance_field(&ctx), 0.0)
+            };
+            let radius = p.profile.cells(p.profile.clearance_radius_m, p.resolution);
+            match shared {
+                Some(f) => f.clearance(
+                    (radius.to_bits(), p.profile.clearance_weight.to_bits()),
+                    make,
+                ),
+                None => Arc::new(make()),
+            }
+        });
         (d, c)
     } else {
-        (Vec::new(), Vec::new())
+        (Arc::new(Vec::new()), None)
     };
+    let mut buffers = p
+        .map_fields
+        .as_ref()
+        .map(|f| f.take_buffers())
+        .unwrap_or_default();
     Ok(Prepared {
         layout,
         traversable_plain,
         traversable,
         obstacle_sq,
         clearance,
+        runs,
+        scratch: RefCell::new(Scratch {
+            field: std::mem::take(&mut buffers.field),
+        }),
+        buffers: RefCell::new(buffers),
+        map_fields: p.map_fields.clone(),
     })
 }
 
@@ -211,26 +286,39 @@ pub fn compile_segment(
         .collect();
 
     // Φ.
-    let mut phi_plain = if prep.clearance.is_empty() {
-        vec![0.0; n * n]
-    } else {
-        prep.clearance.clone()
-    };
-    if p.profile.soft_scale > 0.0 {
+    let mut scratch = prep.scratch.borrow_mut();
+    let adds_terms = p.profile.soft_scale > 0.0 && !spec.soft.is_empty();
+    let phi = if adds_terms {
+        let reused = prep.buffers.borrow_mut().phi.pop();
+        let mut phi = match (reused, &prep.clearance) {
+            (Some(mut b), Some(c)) if b.len() == c.len() => {
+                b.copy_from_slice(c);
+                b
+            }
+            (Some(mut b), None) if b.len() == l.len() => {
+                b.fill(0.0);
+                b
+            }
+            (_, Some(c)) => c.to_vec(),
+            (_, None) => vec![0.0; l.len()],
+        };
         let ctx = FieldContext {
             n,
             resolution: p.resolution,
             profile: &p.profile,
             obstacle_sq: &prep.obstacle_sq,
+            runs: &prep.runs,
         };
         for t in &spec.soft {
-            costfield::add_term(&mut phi_plain, &ctx, t);
+            costfield::add_term(&mut phi, &ctx, &mut scratch.field, t);
         }
-    }
-    let phi = phi_plain
-        .iter()
-        .any(|v| *v != 0.0)
-        .then(|| l.pad(&phi_plain, 0.0));
+        nonzero_on(&phi, &prep.runs, l).then(|| Arc::new(phi))
+    } else {
+        prep.clearance
+            .as_ref()
+            .filter(|c| nonzero_on(c, &prep.runs, l))
+            .map(Arc::clone)
+    };
 
     let radius = goal::goal_radius_cells(p.profile.goal_radius_m, p.resolution);
     let mut stages = Vec::new();
@@ -264,10 +352,14 @@ pub fn compile_segment(
                 forbids: culprits,
             });
         }
-        let h = p
-            .profile
-            .edt_heuristic
-            .then(|| l.pad(&edt::squared(&goal_plain, n), u32::MAX));
+        let goal = l.pad(&goal_plain, false);
+        // On the padded grid directly: distances are translation invariant and the border holds
+        // no goal, so every map cell gets its exact value without a copy.
+        let h = p.profile.edt_heuristic.then(|| {
+            let mut h = prep.buffers.borrow_mut().h.pop().unwrap_or_default();
+            h.reset(&goal, l.w);
+            h
+        });
         let (mut r0, mut r1, mut c0, mut c1) = (usize::MAX, 0, usize::MAX, 0);
         for (i, _) in goal_plain.iter().enumerate().filter(|(_, g)| **g) {
             let (r, c) = (i / n + 1, i % n + 1);
@@ -288,7 +380,7 @@ pub fn compile_segment(
         stages.push(CompiledStage {
             role: st.role,
             origin: st.origin,
-            goal: l.pad(&goal_plain, false),
+            goal,
             h,
             bbox: (r0, r1, c0, c1),
             smooth,
@@ -299,6 +391,16 @@ pub fn compile_segment(
         phi,
         forbids,
         stages,
+    })
+}
+
+/// Whether the padded field is non-zero on some traversable cell (given by its runs).
+fn nonzero_on(phi: &[f64], runs: &[Run], layout: Layout) -> bool {
+    runs.iter().any(|run| {
+        let at = layout.idx(m2rc_stdlib::grid::Cell::new(run.row, run.c0));
+        phi[at..=at + (run.c1 - run.c0) as usize]
+            .iter()
+            .any(|v| *v != 0.0)
     })
 }
 

@@ -6,9 +6,14 @@
 //! on a window that holds its reference cells and every cell whose value can matter (the scope, or
 //! the band within the clipping radius), which is exact and keeps a room-scoped term on a 700×700
 //! map to a fraction of a full transform.
+//!
+//! Φ is written in the padded layout the searches read, and only on traversable cells: a search
+//! looks Φ up only on cells it may enter, so the value anywhere else can never matter, and skipping
+//! those cells skips most of the `exp` and square roots on a house where most of the grid is wall or
+//! outside.
 
-use crate::edt;
 use crate::problem::{Area, CostProfile, RelativeMode, SoftKind, SoftTerm};
+use m2rc_stdlib::field::{self, EdtScratch};
 use m2rc_stdlib::grid::Cell;
 
 /// Inclusive cell rectangle.
@@ -66,32 +71,98 @@ impl Rect {
     }
 }
 
-/// Exact distances from `sources` for the cells of `window`, as a closure over map cells. The
-/// transform runs on the square hull of `window ∪ sources`.
-struct WindowDistance {
-    origin: (i64, i64),
-    side: usize,
-    d: Vec<f64>,
+/// Reusable buffers of the windowed transforms.
+#[derive(Debug, Default)]
+pub struct FieldScratch {
+    edt: EdtScratch,
+    src: Vec<bool>,
+    /// Recent transforms by (sources, hull): a route-level preference is active in every segment
+    /// with the same reference and window, so its transform is computed once per plan.
+    done: Vec<Transform>,
+    /// Memory of forgotten transforms.
+    spare: Vec<Vec<u32>>,
 }
 
-impl WindowDistance {
-    fn new(sources: &[Cell], window: Rect) -> Self {
+/// Most transforms kept by [`FieldScratch`] (each up to the map's size in `u32`).
+const KEPT_TRANSFORMS: usize = 4;
+
+#[derive(Debug)]
+struct Transform {
+    sources: Vec<Cell>,
+    hull: Rect,
+    side: usize,
+    sq: Vec<u32>,
+}
+
+impl FieldScratch {
+    /// The index in `done` of the transform of `sources` over the square hull of `window ∪
+    /// sources`, computed unless already there. Indices of earlier calls stay valid until the next
+    /// call that has to compute.
+    fn transform(&mut self, sources: &[Cell], window: Rect) -> usize {
         let hull = Rect::of_cells(sources).map_or(window, |s| s.union(window));
+        if let Some(i) = self
+            .done
+            .iter()
+            .position(|t| t.hull == hull && t.sources == sources)
+        {
+            return i;
+        }
         let side = ((hull.r1 - hull.r0).max(hull.c1 - hull.c0) + 1) as usize;
-        let mut src = vec![false; side * side];
+        self.src.clear();
+        self.src.resize(side * side, false);
         for c in sources {
-            src[(c.row as i64 - hull.r0) as usize * side + (c.col as i64 - hull.c0) as usize] =
+            self.src
+                [(c.row as i64 - hull.r0) as usize * side + (c.col as i64 - hull.c0) as usize] =
                 true;
         }
-        WindowDistance {
-            origin: (hull.r0, hull.c0),
+        let mut sq = if self.done.len() >= KEPT_TRANSFORMS {
+            self.done.remove(0).sq
+        } else {
+            self.spare.pop().unwrap_or_default()
+        };
+        field::squared_distances_into(&self.src, side, &mut sq, &mut self.edt);
+        self.done.push(Transform {
+            sources: sources.to_vec(),
+            hull,
             side,
-            d: edt::distance(&src, side),
-        }
+            sq,
+        });
+        self.done.len() - 1
     }
 
+    /// Drops the remembered transforms, keeping their memory: a new plan starts from nothing
+    /// known but allocates nothing.
+    pub fn forget(&mut self) {
+        self.spare.extend(self.done.drain(..).map(|t| t.sq));
+    }
+
+    fn distance(&self, i: usize) -> WindowDistance<'_> {
+        let t = &self.done[i];
+        WindowDistance {
+            origin: (t.hull.r0, t.hull.c0),
+            side: t.side,
+            sq: &t.sq,
+        }
+    }
+}
+
+/// Exact distances from some sources for the cells of a window, as a closure over map cells. The
+/// transform runs on the square hull of the window and the sources; squared distances are kept and
+/// the root taken only where a value is read (the same `f64` as a full distance field).
+struct WindowDistance<'s> {
+    origin: (i64, i64),
+    side: usize,
+    sq: &'s [u32],
+}
+
+impl WindowDistance<'_> {
     fn at(&self, r: i64, c: i64) -> f64 {
-        self.d[(r - self.origin.0) as usize * self.side + (c - self.origin.1) as usize]
+        let v = self.sq[(r - self.origin.0) as usize * self.side + (c - self.origin.1) as usize];
+        if v == field::NO_SOURCE {
+            f64::INFINITY
+        } else {
+            (v as f64).sqrt()
+        }
     }
 }
 
@@ -107,28 +178,39 @@ fn sources(area: &Area, n: usize) -> Vec<Cell> {
 fn scope_of(scope: &Option<Area>, n: usize) -> Option<(Vec<bool>, Option<Rect>)> {
     scope.as_ref().map(|a| {
         let m = a.to_mask(n);
-        let cells: Vec<Cell> = m
-            .iter()
-            .enumerate()
-            .filter(|(_, v)| **v)
-            .map(|(i, _)| Cell::new((i / n) as u32, (i % n) as u32))
-            .collect();
-        (m, Rect::of_cells(&cells))
+        let mut rect: Option<Rect> = None;
+        for (r, row) in m.chunks_exact(n.max(1)).enumerate() {
+            if let (Some(c0), Some(c1)) =
+                (row.iter().position(|v| *v), row.iter().rposition(|v| *v))
+            {
+                let line = Rect {
+                    r0: r as i64,
+                    c0: c0 as i64,
+                    r1: r as i64,
+                    c1: c1 as i64,
+                };
+                rect = Some(rect.map_or(line, |b| b.union(line)));
+            }
+        }
+        (m, rect)
     })
 }
 
-/// Adds `weight · value(d)` over the scope (or the whole map) to `phi`, where `d` is the distance to
+/// Adds `weight · value(d)` over the scope (or the whole map) to Φ, where `d` is the distance to
 /// `reference`. `clip` is the distance beyond which `value` is constant (lets an unscoped term
 /// transform only a band around the reference).
+#[allow(clippy::too_many_arguments)]
 fn add_distance_term(
     phi: &mut [f64],
-    n: usize,
+    ctx: &FieldContext<'_>,
+    scratch: &mut FieldScratch,
     reference: &Area,
     scope: &Option<Area>,
     weight: f64,
     clip: Option<f64>,
     value: impl Fn(f64) -> f64,
 ) {
+    let n = ctx.n;
     let src = sources(reference, n);
     if src.is_empty() || weight == 0.0 {
         return;
@@ -139,36 +221,81 @@ fn add_distance_term(
     match scope_of(scope, n) {
         Some((_, None)) => {}
         Some((mask, Some(rect))) => {
-            let wd = WindowDistance::new(&src, rect);
-            for r in rect.r0..=rect.r1 {
-                for c in rect.c0..=rect.c1 {
-                    let i = r as usize * n + c as usize;
-                    if mask[i] {
-                        phi[i] += weight * value(wd.at(r, c));
-                    }
+            let i = scratch.transform(&src, rect);
+            let wd = scratch.distance(i);
+            for_traversable(ctx, rect, |r, c, i, pi| {
+                if mask[i] {
+                    phi[pi] += weight * value(wd.at(r, c));
                 }
-            }
+            });
         }
         None => {
             let window = match clip {
                 Some(radius) => src_rect.grow(radius.ceil() as i64 + 1, n),
                 None => Rect::full(n),
             };
-            let wd = WindowDistance::new(&src, window);
+            let i = scratch.transform(&src, window);
+            let wd = scratch.distance(i);
             let outside = clip
                 .map(|radius| weight * value(radius + 1.0))
                 .unwrap_or(0.0);
-            for r in 0..n as i64 {
-                let inside_rows = r >= window.r0 && r <= window.r1;
-                for c in 0..n as i64 {
-                    let i = r as usize * n + c as usize;
-                    if inside_rows && c >= window.c0 && c <= window.c1 {
-                        phi[i] += weight * value(wd.at(r, c));
-                    } else {
-                        phi[i] += outside;
-                    }
+            for_traversable(ctx, Rect::full(n), |r, c, _, pi| {
+                if r >= window.r0 && r <= window.r1 && c >= window.c0 && c <= window.c1 {
+                    phi[pi] += weight * value(wd.at(r, c));
+                } else {
+                    phi[pi] += outside;
                 }
+            });
+        }
+    }
+}
+
+/// A maximal horizontal run of traversable cells: its row and first and last column, inclusive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Run {
+    pub row: u32,
+    pub c0: u32,
+    pub c1: u32,
+}
+
+/// The runs of a row-major `n`×`n` traversable mask, by row then column. A few thousand runs stand
+/// for the hundred thousand free cells of a house, and walking them skips walls and the outside
+/// without testing each cell.
+pub fn traversable_runs(traversable: &[bool], n: usize) -> Vec<Run> {
+    let mut runs = Vec::new();
+    for (r, row) in traversable.chunks_exact(n.max(1)).enumerate() {
+        let mut c = 0;
+        while let Some(start) = row[c..].iter().position(|t| *t) {
+            let c0 = c + start;
+            let len = row[c0..].iter().position(|t| !*t).unwrap_or(n - c0);
+            runs.push(Run {
+                row: r as u32,
+                c0: c0 as u32,
+                c1: (c0 + len - 1) as u32,
+            });
+            c = c0 + len;
+            if c >= n {
+                break;
             }
+        }
+    }
+    runs
+}
+
+/// Calls `f(row, col, row-major index, padded index)` on every traversable cell of `rect`.
+fn for_traversable(ctx: &FieldContext<'_>, rect: Rect, mut f: impl FnMut(i64, i64, usize, usize)) {
+    let n = ctx.n;
+    let w = n + 2;
+    let first = ctx.runs.partition_point(|run| (run.row as i64) < rect.r0);
+    for run in &ctx.runs[first..] {
+        let r = run.row as i64;
+        if r > rect.r1 {
+            break;
+        }
+        let (c0, c1) = ((run.c0 as i64).max(rect.c0), (run.c1 as i64).min(rect.c1));
+        let (row, prow) = (r as usize * n, (r as usize + 1) * w + 1);
+        for c in c0..=c1 {
+            f(r, c, row + c as usize, prow + c as usize);
         }
     }
 }
@@ -181,6 +308,8 @@ pub struct FieldContext<'a> {
     /// Squared distance to the nearest clearance obstacle, in cells² (row-major; `u32::MAX` =
     /// none). Squared, because the clearance terms only need a square root within their radius.
     pub obstacle_sq: &'a [u32],
+    /// The traversable cells, by runs ([`traversable_runs`]): Φ is only written on them.
+    pub runs: &'a [Run],
 }
 
 /// The clearance penalty `λ · ((max(0, R − d)) / R)²` at obstacle distance `d`.
@@ -189,7 +318,7 @@ pub fn clearance_cost(d: f64, radius: f64, weight: f64) -> f64 {
     weight * x * x
 }
 
-/// The always-on clearance field (zero when the profile turns it off).
+/// The always-on clearance field, row-major over every cell (zero when the profile turns it off).
 pub fn clearance_field(ctx: &FieldContext<'_>) -> Vec<f64> {
     let p = ctx.profile;
     if !p.clearance || p.clearance_weight == 0.0 {
@@ -209,8 +338,13 @@ pub fn clearance_field(ctx: &FieldContext<'_>) -> Vec<f64> {
         .collect()
 }
 
-/// Adds one soft term to `phi` (row-major `n`×`n`).
-pub fn add_term(phi: &mut [f64], ctx: &FieldContext<'_>, term: &SoftTerm) {
+/// Adds one soft term to Φ (padded layout of side `n + 2`), on traversable cells.
+pub fn add_term(
+    phi: &mut [f64],
+    ctx: &FieldContext<'_>,
+    scratch: &mut FieldScratch,
+    term: &SoftTerm,
+) {
     let p = ctx.profile;
     let n = ctx.n;
     let res = ctx.resolution;
@@ -219,23 +353,37 @@ pub fn add_term(phi: &mut [f64], ctx: &FieldContext<'_>, term: &SoftTerm) {
         SoftKind::Near { reference } => {
             let radius = p.cells(p.near_radius_m, res);
             let w = term.weight.unwrap_or(p.near_weight) * scale;
-            add_distance_term(phi, n, reference, &term.scope, w, Some(radius), |d| {
-                (d / radius).clamp(0.0, 1.0)
-            });
+            add_distance_term(
+                phi,
+                ctx,
+                scratch,
+                reference,
+                &term.scope,
+                w,
+                Some(radius),
+                |d| (d / radius).clamp(0.0, 1.0),
+            );
         }
         SoftKind::Far { reference } => {
             let sigma = p.cells(p.far_sigma_m, res);
             let w = term.weight.unwrap_or(p.far_weight) * scale;
-            add_distance_term(phi, n, reference, &term.scope, w, None, |d| {
+            add_distance_term(phi, ctx, scratch, reference, &term.scope, w, None, |d| {
                 (-d / sigma).exp()
             });
         }
         SoftKind::PathShape { waypoints } => {
             let radius = p.cells(p.path_shape_radius_m, res);
             let w = term.weight.unwrap_or(p.path_shape_weight) * scale;
-            add_distance_term(phi, n, waypoints, &term.scope, w, Some(radius), |d| {
-                (d / radius).clamp(0.0, 1.0)
-            });
+            add_distance_term(
+                phi,
+                ctx,
+                scratch,
+                waypoints,
+                &term.scope,
+                w,
+                Some(radius),
+                |d| (d / radius).clamp(0.0, 1.0),
+            );
         }
         SoftKind::Relative {
             closer,
@@ -243,7 +391,7 @@ pub fn add_term(phi: &mut [f64], ctx: &FieldContext<'_>, term: &SoftTerm) {
             mode,
         } => {
             let w = term.weight.unwrap_or(p.relative_weight) * scale;
-            add_relative(phi, ctx, closer, farther, *mode, &term.scope, w);
+            add_relative(phi, ctx, scratch, closer, farther, *mode, &term.scope, w);
         }
         SoftKind::Clearance { radius_m } => {
             let radius = p.cells(*radius_m, res);
@@ -253,18 +401,22 @@ pub fn add_term(phi: &mut [f64], ctx: &FieldContext<'_>, term: &SoftTerm) {
             }
             let mask = term.scope.as_ref().map(|a| a.to_mask(n));
             let r2 = radius * radius;
-            for (i, &sq) in ctx.obstacle_sq.iter().enumerate() {
+            let sq_of = ctx.obstacle_sq;
+            for_traversable(ctx, Rect::full(n), |_, _, i, pi| {
+                let sq = sq_of[i];
                 if (sq as f64) < r2 && mask.as_ref().is_none_or(|m| m[i]) {
-                    phi[i] += clearance_cost((sq as f64).sqrt(), radius, w);
+                    phi[pi] += clearance_cost((sq as f64).sqrt(), radius, w);
                 }
-            }
+            });
         }
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn add_relative(
     phi: &mut [f64],
     ctx: &FieldContext<'_>,
+    scratch: &mut FieldScratch,
     closer: &Area,
     farther: &Area,
     mode: RelativeMode,
@@ -282,20 +434,21 @@ fn add_relative(
         Some((_, Some(r))) => *r,
         None => Rect::full(n),
     };
-    let da = WindowDistance::new(&a, window);
-    let db = WindowDistance::new(&b, window);
+    // After a, b, the second round computes at most one of them and the last call finds its
+    // transform, so both indices are valid together.
+    scratch.transform(&a, window);
+    scratch.transform(&b, window);
+    let ia = scratch.transform(&a, window);
+    let ib = scratch.transform(&b, window);
+    let (da, db) = (scratch.distance(ia), scratch.distance(ib));
     let radius = ctx
         .profile
         .cells(ctx.profile.relative_radius_m, ctx.resolution);
-    for r in window.r0..=window.r1 {
-        for c in window.c0..=window.c1 {
-            let i = r as usize * n + c as usize;
-            if scope.as_ref().is_some_and(|(m, _)| !m[i]) {
-                continue;
-            }
-            phi[i] += weight * relative_value(da.at(r, c), db.at(r, c), mode, radius);
+    for_traversable(ctx, window, |r, c, i, pi| {
+        if scope.as_ref().is_none_or(|(m, _)| m[i]) {
+            phi[pi] += weight * relative_value(da.at(r, c), db.at(r, c), mode, radius);
         }
-    }
+    });
 }
 
 /// The relative term's per-cell value before λ, from the distances to the place to be closer to
@@ -313,6 +466,7 @@ pub fn relative_value(d_close: f64, d_far: f64, mode: RelativeMode, radius: f64)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::layout::Layout;
     use crate::problem::Origin;
     use m2rc_stdlib::grid::Grid;
 
@@ -332,18 +486,103 @@ mod tests {
         }
     }
 
-    fn field(n: usize, res: f64, t: &SoftTerm) -> Vec<f64> {
+    /// Φ of one term, row-major, with every cell traversable except `blocked`.
+    fn field_blocked(n: usize, res: f64, t: &SoftTerm, blocked: &[usize]) -> Vec<f64> {
         let p = ctx_profile();
         let od = vec![u32::MAX; n * n];
+        let l = Layout::new(n);
+        let mut trav = vec![true; n * n];
+        blocked.iter().for_each(|&i| trav[i] = false);
+        let runs = traversable_runs(&trav, n);
         let ctx = FieldContext {
             n,
             resolution: res,
             profile: &p,
             obstacle_sq: &od,
+            runs: &runs,
         };
-        let mut phi = vec![0.0; n * n];
-        add_term(&mut phi, &ctx, t);
-        phi
+        let mut phi = vec![0.0; l.len()];
+        add_term(&mut phi, &ctx, &mut FieldScratch::default(), t);
+        l.unpad(&phi)
+    }
+
+    fn field(n: usize, res: f64, t: &SoftTerm) -> Vec<f64> {
+        field_blocked(n, res, t, &[])
+    }
+
+    #[test]
+    fn a_busy_transform_cache_gives_the_same_field() {
+        let n = 12;
+        let p = ctx_profile();
+        let od = vec![u32::MAX; n * n];
+        let runs = traversable_runs(&vec![true; n * n], n);
+        let ctx = FieldContext {
+            n,
+            resolution: 0.5,
+            profile: &p,
+            obstacle_sq: &od,
+            runs: &runs,
+        };
+        let cell = |r, c| Area::Cells(vec![Cell::new(r, c)]);
+        let relative = term(
+            SoftKind::Relative {
+                closer: cell(1, 1),
+                farther: cell(9, 10),
+                mode: RelativeMode::Ratio,
+            },
+            None,
+        );
+        let len = (n + 2) * (n + 2);
+        let mut fresh = vec![0.0; len];
+        add_term(&mut fresh, &ctx, &mut FieldScratch::default(), &relative);
+        let mut scratch = FieldScratch::default();
+        for k in 0..2 * KEPT_TRANSFORMS as u32 {
+            let far = term(
+                SoftKind::Far {
+                    reference: cell(k, 3),
+                },
+                None,
+            );
+            add_term(&mut vec![0.0; len], &ctx, &mut scratch, &far);
+            let mut busy = vec![0.0; len];
+            add_term(&mut busy, &ctx, &mut scratch, &relative);
+            assert_eq!(busy, fresh, "after {k} other transforms");
+        }
+    }
+
+    #[test]
+    fn runs_cover_exactly_the_traversable_cells() {
+        let n = 7;
+        let trav: Vec<bool> = (0..n * n).map(|i| (i * 7 + i / 3) % 5 != 0).collect();
+        let runs = traversable_runs(&trav, n);
+        let mut seen = vec![false; n * n];
+        for w in runs.windows(2) {
+            assert!((w[0].row, w[0].c1 + 1) < (w[1].row, w[1].c0), "{w:?}");
+        }
+        for run in &runs {
+            for c in run.c0..=run.c1 {
+                seen[run.row as usize * n + c as usize] = true;
+            }
+        }
+        assert_eq!(seen, trav);
+        assert!(traversable_runs(&[], 0).is_empty());
+    }
+
+    #[test]
+    fn untraversable_cells_are_left_alone() {
+        let n = 6;
+        let t = term(
+            SoftKind::Far {
+                reference: Area::Cells(vec![Cell::new(0, 0)]),
+            },
+            None,
+        );
+        let open = field(n, 0.5, &t);
+        let phi = field_blocked(n, 0.5, &t, &[3, 20]);
+        for i in 0..n * n {
+            let want = if i == 3 || i == 20 { 0.0 } else { open[i] };
+            assert_eq!(phi[i].to_bits(), want.to_bits(), "cell {i}");
+        }
     }
 
     #[test]
@@ -466,7 +705,7 @@ mod tests {
             None,
         );
         let phi = field(n, 0.05, &t);
-        let full = edt::distance(&reference.to_mask(n), n);
+        let full = field::distances(&reference.to_mask(n), n);
         for i in 0..n * n {
             let want = 8.0 * (full[i] / 30.0).clamp(0.0, 1.0);
             assert!((phi[i] - want).abs() < 1e-12, "cell {i}");

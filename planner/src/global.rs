@@ -81,7 +81,14 @@ pub fn plan_global(p: &PlanProblem) -> PlannedRoute {
     let mut unlimited = p.clone();
     unlimited.profile.max_expansions = 0;
     let mut cache = SegmentCache::new(p.segments.len());
-    let mut incumbent = sequential::run(&unlimited, &prep, &mut cache, &mut AStar::new(), "global");
+    let mut incumbent = sequential::run(
+        &unlimited,
+        &prep,
+        &mut cache,
+        &mut AStar::new(),
+        "global",
+        false,
+    );
     for i in 0..p.segments.len() {
         if cache.get(p, &prep, i).is_err() {
             return incumbent;

@@ -3,8 +3,8 @@
 //! footprint, inside its room; an unusable "near" region or object band falls back to the room's
 //! traversable cell nearest the centre.
 
-use crate::edt;
 use crate::problem::{Fallback, Target};
+use m2rc_stdlib::field;
 use m2rc_stdlib::grid::Cell;
 
 /// The goal mask (row-major, `n`×`n`) of `target`: target cells that are traversable, after the
@@ -86,7 +86,7 @@ pub fn object_band(footprint: &[Cell], radius: f64, n: usize) -> Vec<bool> {
     for c in &inside {
         src[(c.row as i64 - r0) as usize * side + (c.col as i64 - c0) as usize] = true;
     }
-    let d = edt::distance(&src, side);
+    let d = field::distances(&src, side);
     for wr in 0..side {
         let r = r0 + wr as i64;
         if r < 0 || r >= n as i64 {

@@ -1,14 +1,16 @@
 //! Route planning over the grid: cost fields from the soft constraints, a flat-array A*, the
 //! reference sequential planner, an exact global planner over all stages, and the
 //! shortest-feasible baseline. `lower` turns a compiler RouteIR into a [`PlanProblem`]; everything
-//! else works on masks and cells only.
+//! else works on masks and cells only. Planning again on the same map: build a
+//! [`context::MapContext`] once and lower with `lower::lower_with`, so the map's grids, obstacle
+//! distances, clearance field and working arrays are shared between plans.
 //!
 //! See `docs/planner.md` for the cost model, its defaults and where it departs from the reference.
 
 pub mod astar;
 pub mod compile;
+pub mod context;
 pub mod costfield;
-pub mod edt;
 pub mod failure;
 pub mod global;
 pub mod goal;

@@ -12,46 +12,43 @@
 //! Every stage, avoid region and term carries an [`Origin`]; [`span_of`] maps it back to the
 //! `.m2r` source span for diagnostics.
 
+use crate::context::MapContext;
 use crate::problem::{
     Area, CostProfile, Fallback, Forbid, Origin, PlanProblem, RelativeMode, SegmentSpec, SoftKind,
     SoftTerm, StageRole, StageSpec, Target,
 };
 use m2rc_compiler::ir::{Constraint, ConstraintKind, Place, PlaceKind, RouteIr, SourceSpan};
-use m2rc_stdlib::grid::{Cell, Grid};
-use m2rc_stdlib::map::{FREE, SemanticMap};
+use m2rc_stdlib::grid::Cell;
+use m2rc_stdlib::map::SemanticMap;
 
-/// Object categories the clearance term does not treat as obstacles.
-const DOOR_CATEGORIES: [&str; 2] = ["doorway", "doorframe"];
-
-/// Builds the planning problem for `ir` on `map` with cost `profile`.
+/// Builds the planning problem for `ir` on `map` with cost `profile`. Indexes the map on every call;
+/// a caller planning on the same map more than once should build a [`MapContext`] once and call
+/// [`lower_with`].
 pub fn lower(ir: &RouteIr, map: &SemanticMap, profile: CostProfile) -> Result<PlanProblem, String> {
+    check_ir(ir, map)?;
+    lower_with(ir, map, &MapContext::new(map)?, profile)
+}
+
+/// [`lower`] with the per-map data of `ctx` (built from `map`), shared with every other problem
+/// lowered from it, including the obstacle distance and clearance fields once computed.
+pub fn lower_with(
+    ir: &RouteIr,
+    map: &SemanticMap,
+    ctx: &MapContext,
+    profile: CostProfile,
+) -> Result<PlanProblem, String> {
+    check_ir(ir, map)?;
     let n = map.n();
-    if ir.grid_size != n {
+    if ctx.n() != n || ctx.map_id != map.map_id {
         return Err(format!(
-            "the RouteIR was grounded on a {0}×{0} grid (map `{1}`), but the map `{2}` is {n}×{n}",
-            ir.grid_size, ir.map_id, map.map_id
+            "the planning context was built for map `{}` ({1}×{1}), not for map `{2}` ({n}×{n})",
+            ctx.map_id,
+            ctx.n(),
+            map.map_id
         ));
     }
-    if ir.stages.is_empty() {
-        return Err("the RouteIR has no stages: nothing to plan".into());
-    }
-    let traversable = map.occupancy.map(|&o| o == FREE);
-    let door_ids: Vec<u32> = map
-        .objects
-        .iter()
-        .filter(|o| DOOR_CATEGORIES.contains(&o.category.as_str()))
-        .map(|o| o.id)
-        .collect();
-    let obstacles = Grid::from_vec(
-        n,
-        map.occupancy
-            .data()
-            .iter()
-            .zip(map.object_layer.data())
-            .map(|(&occ, &obj)| occ != FREE || (obj != 0 && !door_ids.contains(&obj)))
-            .collect(),
-    )
-    .ok_or_else(|| "object layer size does not match the occupancy layer".to_string())?;
+    let traversable = ctx.traversable.clone();
+    let obstacles = ctx.obstacles.clone();
     let resolution = if ir.resolution_m.is_finite() && ir.resolution_m > 0.0 {
         ir.resolution_m
     } else {
@@ -70,7 +67,7 @@ pub fn lower(ir: &RouteIr, map: &SemanticMap, profile: CostProfile) -> Result<Pl
         let mut ordered: Vec<(bool, usize, Vec<StageSpec>)> = Vec::new();
         for (pi, pass) in stage.passes.iter().enumerate() {
             let spec = StageSpec {
-                target: target_of(&pass.place, map),
+                target: target_of(&pass.place, map, ctx),
                 role: StageRole::Pass,
                 smoothness: None,
                 origin: Origin::Pass {
@@ -124,12 +121,12 @@ pub fn lower(ir: &RouteIr, map: &SemanticMap, profile: CostProfile) -> Result<Pl
                 ConstraintKind::PathShape {
                     around, waypoints, ..
                 } => {
-                    let smooth = room_area_of(around, map);
+                    let smooth = room_area_of(around, map, ctx);
                     let specs = waypoints
                         .iter()
                         .enumerate()
                         .map(|(j, wp)| StageSpec {
-                            target: target_of(wp, map),
+                            target: target_of(wp, map, ctx),
                             role: StageRole::Waypoint,
                             smoothness: smooth.clone(),
                             origin: Origin::Constraint { index: ci, part: j },
@@ -143,7 +140,7 @@ pub fn lower(ir: &RouteIr, map: &SemanticMap, profile: CostProfile) -> Result<Pl
         ordered.sort_by_key(|(inside, at, _)| (!*inside, if *inside { *at } else { 0 }));
         let mut stages: Vec<StageSpec> = ordered.into_iter().flat_map(|(_, _, s)| s).collect();
         stages.push(StageSpec {
-            target: target_of(&stage.target, map),
+            target: target_of(&stage.target, map, ctx),
             role: StageRole::Destination,
             smoothness: None,
             origin: Origin::Target { stage: si },
@@ -161,7 +158,22 @@ pub fn lower(ir: &RouteIr, map: &SemanticMap, profile: CostProfile) -> Result<Pl
         start: ir.start,
         segments,
         profile,
+        map_fields: Some(ctx.fields()),
     })
+}
+
+fn check_ir(ir: &RouteIr, map: &SemanticMap) -> Result<(), String> {
+    let n = map.n();
+    if ir.grid_size != n {
+        return Err(format!(
+            "the RouteIR was grounded on a {0}×{0} grid (map `{1}`), but the map `{2}` is {n}×{n}",
+            ir.grid_size, ir.map_id, map.map_id
+        ));
+    }
+    if ir.stages.is_empty() {
+        return Err("the RouteIR has no stages: nothing to plan".into());
+    }
+    Ok(())
 }
 
 /// The source span an origin points at.
@@ -193,8 +205,8 @@ fn centroid(cells: &[Cell]) -> Option<[f64; 2]> {
     ])
 }
 
-fn room_mask(map: &SemanticMap, id: u32) -> Area {
-    Area::Mask(map.room_layer.map(|&r| r == id))
+fn room_mask(map: &SemanticMap, ctx: &MapContext, id: u32) -> Area {
+    Area::Mask(ctx.room_mask(map, id))
 }
 
 /// The room under a point, if any.
@@ -205,17 +217,17 @@ fn room_at(map: &SemanticMap, at: [f64; 2]) -> Option<u32> {
 
 /// The room a shape is drawn in: the room itself, an object's room, or the room under a region's
 /// centre.
-fn room_area_of(p: &Place, map: &SemanticMap) -> Option<Area> {
+fn room_area_of(p: &Place, map: &SemanticMap, ctx: &MapContext) -> Option<Area> {
     match &p.kind {
         PlaceKind::Room { .. } => Some(area(p)),
-        PlaceKind::Object { room, .. } => room.map(|r| room_mask(map, r)),
+        PlaceKind::Object { room, .. } => room.map(|r| room_mask(map, ctx, r)),
         PlaceKind::Region { .. } => {
-            room_at(map, centroid(p.cells.cells())?).map(|r| room_mask(map, r))
+            room_at(map, centroid(p.cells.cells())?).map(|r| room_mask(map, ctx, r))
         }
     }
 }
 
-fn target_of(p: &Place, map: &SemanticMap) -> Target {
+fn target_of(p: &Place, map: &SemanticMap, ctx: &MapContext) -> Target {
     let cells = p.cells.cells();
     match &p.kind {
         PlaceKind::Room { .. } => Target::Room(area(p)),
@@ -227,7 +239,7 @@ fn target_of(p: &Place, map: &SemanticMap) -> Target {
                 .unwrap_or([0.0, 0.0]);
             Target::Object {
                 footprint: cells.to_vec(),
-                room: room.map(|r| room_mask(map, r)),
+                room: room.map(|r| room_mask(map, ctx, r)),
                 center,
             }
         }
@@ -236,7 +248,7 @@ fn target_of(p: &Place, map: &SemanticMap) -> Target {
                 .then(|| centroid(cells))
                 .flatten()
                 .map(|center| Fallback {
-                    room: room_at(map, center).map(|r| room_mask(map, r)),
+                    room: room_at(map, center).map(|r| room_mask(map, ctx, r)),
                     center,
                 });
             Target::Region {

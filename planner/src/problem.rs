@@ -348,4 +348,9 @@ pub struct PlanProblem {
     pub start: Cell,
     pub segments: Vec<SegmentSpec>,
     pub profile: CostProfile,
+    /// Distance fields shared by every problem on the same map (see [`crate::context`]); `None`
+    /// computes them for this problem alone. When set, they must come from a
+    /// [`crate::context::MapContext`] built with this problem's `traversable` and `obstacles`
+    /// (`lower_with` guarantees it).
+    pub map_fields: Option<std::sync::Arc<crate::context::MapFields>>,
 }

@@ -25,6 +25,14 @@ impl SegmentCache {
         }
     }
 
+    /// Hands segment `i`'s arrays to `prep` for the segments after it (sequential planning never
+    /// reads a finished segment again).
+    pub(crate) fn release(&mut self, i: usize, prep: &Prepared) {
+        if let Some(Some(Ok(seg))) = self.slots.get_mut(i).map(Option::take) {
+            prep.buffers.borrow_mut().recycle(seg);
+        }
+    }
+
     /// A segment compiled earlier by [`SegmentCache::get`].
     pub(crate) fn peek(&self, i: usize) -> Option<&CompiledSegment> {
         self.slots.get(i)?.as_ref()?.as_ref().ok()
@@ -56,7 +64,7 @@ pub fn plan_sequential(p: &PlanProblem) -> PlannedRoute {
         Err(f) => return PlannedRoute::failed("sequential", &p.profile.name, p.start, f),
     };
     let mut cache = SegmentCache::new(p.segments.len());
-    run(p, &prep, &mut cache, &mut AStar::new(), "sequential")
+    run(p, &prep, &mut cache, &mut AStar::new(), "sequential", true)
 }
 
 pub(crate) fn run(
@@ -65,6 +73,7 @@ pub(crate) fn run(
     cache: &mut SegmentCache,
     astar: &mut AStar,
     name: &str,
+    release: bool,
 ) -> PlannedRoute {
     let l = prep.layout;
     let profile = &p.profile.name;
@@ -134,7 +143,7 @@ pub(crate) fn run(
                 layout: l,
                 traversable: &prep.traversable,
                 allowed: &seg.allowed,
-                phi: seg.phi.as_deref(),
+                phi: seg.phi.as_deref().map(Vec::as_slice),
             };
             let q = Query {
                 start: cur,
@@ -192,6 +201,9 @@ pub(crate) fn run(
         total_exp += planned.expansions;
         append_path(&mut trajectory, &planned.path);
         segments.push(planned);
+        if release {
+            cache.release(si, prep);
+        }
     }
     let status = if failure.is_some() {
         PlanStatus::Failed

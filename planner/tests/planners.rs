@@ -62,6 +62,7 @@ fn problem(grid: Grid<bool>, start: Cell, segments: Vec<SegmentSpec>) -> PlanPro
         start,
         segments,
         profile: plain_profile(),
+        map_fields: None,
     }
 }
 

@@ -6,8 +6,9 @@ use m2rc_planner::astar::{AStar, Heuristic, Outcome, Query, Space};
 use m2rc_planner::layout::{Layout, MOVES, NO_HEADING};
 use m2rc_planner::{
     Area, CostProfile, Forbid, Origin, PlanProblem, SegmentSpec, SoftKind, SoftTerm, StageRole,
-    StageSpec, Target, edt, global, plan_sequential, plan_shortest,
+    StageSpec, Target, global, plan_sequential, plan_shortest,
 };
+use m2rc_stdlib::field;
 use m2rc_stdlib::grid::{Cell, Grid};
 use proptest::prelude::*;
 use std::cmp::Ordering;
@@ -167,7 +168,7 @@ fn run_astar(n: usize, trav: &[bool], phi: Option<&[f64]>, start: usize, goal: &
     let ptrav = l.pad(trav, false);
     let pgoal = l.pad(goal, false);
     let pphi = phi.map(|p| l.pad(p, 0.0));
-    let h = l.pad(&edt::distance(goal, n), 0.0);
+    let h = l.pad(&field::distances(goal, n), 0.0);
     let space = Space {
         layout: l,
         traversable: &ptrav,
@@ -336,6 +337,7 @@ fn multi_stage_problem(
             smoothness_weight: if smooth { 0.5 } else { 0.02 },
             ..CostProfile::reference()
         },
+        map_fields: None,
     }
 }
 

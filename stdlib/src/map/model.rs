@@ -7,7 +7,7 @@
 
 use crate::grid::{Cell, Grid};
 use serde::{Deserialize, Serialize};
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 
 /// Occupancy values, as in `layer_legends.occupancy` of the Map2Route maps.
 pub const FREE: u8 = 0;
@@ -182,39 +182,18 @@ impl SemanticMap {
         out
     }
 
-    /// Pairs of rooms `(a, b)` with `a < b` that a doorway or doorframe connects, sorted.
-    ///
-    /// Rooms that merely share a wall are not adjacent: a robot can only pass where a door cuts
-    /// the wall. A door's footprint straddles the wall line, so the rooms it touches (its cells and
-    /// their 4-neighbours) are the rooms it joins.
+    /// Pairs of rooms `(a, b)` with `a < b` joined by a passage, sorted: free cells where the room
+    /// label changes, directly or through a small unlabelled door patch. This is the one definition
+    /// of adjacency, shared with the `.m2r` queries (`adjacent_to`, `doorways`) through
+    /// [`crate::query::MapQuery::passages`]; walls without an opening do not join rooms.
     pub fn room_adjacency(&self) -> Vec<(u32, u32)> {
-        let mut pairs = BTreeSet::new();
-        for o in self
-            .objects
-            .iter()
-            .filter(|o| o.category == "doorway" || o.category == "doorframe")
-        {
-            let mut touched = BTreeSet::new();
-            for &c in &o.footprint {
-                let (r, col) = (c.row as i64, c.col as i64);
-                for (dr, dc) in [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)] {
-                    let (rr, cc) = (r + dr, col + dc);
-                    if self.room_layer.contains(rr, cc) {
-                        let id = self.room_at(Cell::new(rr as u32, cc as u32));
-                        if id != 0 {
-                            touched.insert(id);
-                        }
-                    }
-                }
-            }
-            let ids: Vec<u32> = touched.into_iter().collect();
-            for (i, &a) in ids.iter().enumerate() {
-                for &b in &ids[i + 1..] {
-                    pairs.insert((a, b));
-                }
-            }
-        }
-        pairs.into_iter().collect()
+        let free = self.occupancy.map(|&o| o == FREE);
+        let mut pairs: Vec<(u32, u32)> = crate::query::find_passages(self, &free)
+            .into_iter()
+            .map(|p| p.rooms)
+            .collect();
+        pairs.dedup();
+        pairs
     }
 
     /// Rooms adjacent to `id` through a doorway, sorted.

@@ -24,30 +24,27 @@ impl MapQuery<'_> {
         if ca.is_empty() || cb.is_empty() {
             return None;
         }
-        let (small, large) = if ca.len() <= cb.len() {
-            (ca, cb)
-        } else {
-            (cb, ca)
-        };
-        if small.iter().any(|c| large.binary_search(c).is_ok()) {
+        if self.overlap(a, b) {
             return Some(0.0);
         }
-        let (oa, ob) = (self.outline(a), self.outline(b));
+        // Scan the smaller rim; search the larger, sorted one by rows.
+        let (oa, ob) = match (self.rim(a), self.rim(b)) {
+            (x, y) if x.len() <= y.len() => (x, y),
+            (x, y) => (y, x),
+        };
         let bb = bbox(ob);
+        let sorted = ob.is_sorted();
         let mut best = f64::INFINITY;
         for &p in oa {
             // The bounding box of `ob` bounds every distance from `p` from below.
             if bbox_dist2(p, bb) >= best {
                 continue;
             }
-            for &q in ob {
-                let dr = p.row as f64 - q.row as f64;
-                let dc = p.col as f64 - q.col as f64;
-                let d2 = dr * dr + dc * dc;
-                if d2 < best {
-                    best = d2;
-                }
-            }
+            best = if sorted {
+                nearest_sq_sorted(p, ob, best)
+            } else {
+                nearest_sq(p, ob, best)
+            };
         }
         Some(best.sqrt())
     }
@@ -243,6 +240,41 @@ pub(crate) const STEPS: [(i64, i64); 8] = [
 ];
 
 /// `(min_row, min_col, max_row, max_col)`.
+/// The smaller of `best` and the least squared distance from `p` to a cell of `cells`.
+fn nearest_sq(p: Cell, cells: &[Cell], mut best: f64) -> f64 {
+    for &q in cells {
+        let dr = p.row as f64 - q.row as f64;
+        let dc = p.col as f64 - q.col as f64;
+        best = best.min(dr * dr + dc * dc);
+    }
+    best
+}
+
+/// [`nearest_sq`] over cells sorted row-major: rows are visited outward from `p`'s row and the
+/// scan stops once the row gap alone reaches `best`, so only the rows near `p` are read. Exact:
+/// the same minimum as the full scan.
+fn nearest_sq_sorted(p: Cell, cells: &[Cell], mut best: f64) -> f64 {
+    let split = cells.partition_point(|q| q.row < p.row);
+    let (r, c) = (p.row as f64, p.col as f64);
+    for q in &cells[split..] {
+        let dr = q.row as f64 - r;
+        if dr * dr >= best {
+            break;
+        }
+        let dc = q.col as f64 - c;
+        best = best.min(dr * dr + dc * dc);
+    }
+    for q in cells[..split].iter().rev() {
+        let dr = r - q.row as f64;
+        if dr * dr >= best {
+            break;
+        }
+        let dc = q.col as f64 - c;
+        best = best.min(dr * dr + dc * dc);
+    }
+    best
+}
+
 fn bbox(cells: &[Cell]) -> (f64, f64, f64, f64) {
     let mut b = (
         f64::INFINITY,
@@ -281,6 +313,51 @@ mod tests {
             .unwrap();
         assert!((d - 2.0).abs() < 1e-9, "{d}");
         assert_eq!(q.distance(Target::Object(bed), Target::Room(1)), Some(0.0));
+    }
+
+    #[test]
+    fn distances_equal_the_all_pairs_minimum() {
+        let map = two_rooms();
+        let q = MapQuery::new(&map);
+        let regions = [
+            vec![Cell::new(0, 0)],
+            vec![Cell::new(5, 9), Cell::new(6, 9)],
+        ];
+        let mut targets: Vec<Target> = map.objects.iter().map(Target::Object).collect();
+        targets.extend(map.rooms.iter().map(|r| Target::Room(r.id)));
+        targets.extend(regions.iter().map(|c| Target::Cells(c)));
+        for &a in &targets {
+            for &b in &targets {
+                let mut best = f64::INFINITY;
+                for p in q.cells(a) {
+                    for r in q.cells(b) {
+                        let (dr, dc) = (p.row as f64 - r.row as f64, p.col as f64 - r.col as f64);
+                        best = best.min(dr * dr + dc * dc);
+                    }
+                }
+                let want = best.is_finite().then(|| best.sqrt());
+                assert_eq!(q.distance_cells(a, b), want, "{a:?} {b:?}");
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// The row-pruned scan finds the same minimum as the full one, from any starting bound.
+        #[test]
+        fn sorted_scan_equals_full_scan(
+            pts in proptest::collection::vec((0u32..40, 0u32..40), 1..60),
+            p in (0u32..40, 0u32..40),
+            bound in proptest::prop_oneof![proptest::strategy::Just(f64::INFINITY), 0.0f64..900.0],
+        ) {
+            let mut cells: Vec<Cell> = pts.iter().map(|&(r, c)| Cell::new(r, c)).collect();
+            cells.sort();
+            cells.dedup();
+            let p = Cell::new(p.0, p.1);
+            proptest::prop_assert_eq!(
+                nearest_sq_sorted(p, &cells, bound).to_bits(),
+                nearest_sq(p, &cells, bound).to_bits()
+            );
+        }
     }
 
     #[test]

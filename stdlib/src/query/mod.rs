@@ -16,10 +16,12 @@ pub use distance::TravelField;
 pub use regions::{WaypointShape, loop_waypoints};
 pub use relations::Thresholds;
 pub use rooms::Passage;
+pub(crate) use rooms::find_passages;
 pub use route::{RoomVisit, nominal_path, room_visits};
 
 use crate::grid::{Cell, Grid};
 use crate::map::{Object, SemanticMap};
+use std::sync::OnceLock;
 
 /// Anything with cells that a query can measure: an object footprint, a room, a region.
 #[derive(Clone, Copy, Debug)]
@@ -36,31 +38,68 @@ pub struct MapQuery<'m> {
     traversable: Grid<bool>,
     /// Cells of each room, indexed like `map.rooms`, sorted.
     room_cells: Vec<Vec<Cell>>,
+    /// Cells of each room with a 4-neighbour outside it, indexed like `map.rooms`, sorted; built
+    /// on first use (only distance queries on rooms need them).
+    room_boundaries: Vec<OnceLock<Vec<Cell>>>,
     /// Cells of each object's footprint that touch a cell outside it, indexed like `map.objects`.
     boundaries: Vec<Vec<Cell>>,
     passages: Vec<Passage>,
+    /// Bounding boxes (row0, col0, row1, col1) of each object's footprint and each room, indexed
+    /// like `map.objects` and `map.rooms`; `None` when empty.
+    object_boxes: Vec<Option<Bounds>>,
+    room_boxes: Vec<Option<Bounds>>,
     pub thresholds: Thresholds,
+}
+
+/// Inclusive cell bounding box: (row0, col0, row1, col1).
+type Bounds = (u32, u32, u32, u32);
+
+fn bounds_of(cells: &[Cell]) -> Option<Bounds> {
+    let first = cells.first()?;
+    Some(cells.iter().fold(
+        (first.row, first.col, first.row, first.col),
+        |(r0, c0, r1, c1), c| (r0.min(c.row), c0.min(c.col), r1.max(c.row), c1.max(c.col)),
+    ))
 }
 
 impl<'m> MapQuery<'m> {
     pub fn new(map: &'m SemanticMap) -> Self {
         let traversable = map.occupancy.map(|&v| v == crate::map::FREE);
         let mut room_cells = vec![Vec::new(); map.rooms.len()];
-        for (cell, &label) in map.room_layer.iter_cells() {
-            if label != 0
-                && let Ok(i) = map.rooms.binary_search_by_key(&label, |r| r.id)
-            {
-                room_cells[i].push(cell);
+        let n = map.room_layer.n();
+        // Room index by label, looked up once per run of equal labels.
+        let mut last: (u32, Option<usize>) = (0, None);
+        for (r, row) in map.room_layer.data().chunks_exact(n.max(1)).enumerate() {
+            for (c, &l) in row.iter().enumerate() {
+                if l == 0 {
+                    continue;
+                }
+                if l != last.0 {
+                    last = (l, map.rooms.binary_search_by_key(&l, |x| x.id).ok());
+                }
+                if let Some(i) = last.1 {
+                    room_cells[i].push(Cell::new(r as u32, c as u32));
+                }
             }
         }
+        let room_boundaries = (0..map.rooms.len()).map(|_| OnceLock::new()).collect();
         let boundaries = map.objects.iter().map(|o| boundary(&o.footprint)).collect();
+        let object_boxes = map
+            .objects
+            .iter()
+            .map(|o| bounds_of(&o.footprint))
+            .collect();
+        let room_boxes = room_cells.iter().map(|c| bounds_of(c)).collect();
         let passages = rooms::find_passages(map, &traversable);
         MapQuery {
             map,
             traversable,
             room_cells,
+            room_boundaries,
             boundaries,
             passages,
+            object_boxes,
+            room_boxes,
             thresholds: Thresholds::default(),
         }
     }
@@ -97,6 +136,95 @@ impl<'m> MapQuery<'m> {
             Target::Object(o) => &o.footprint,
             Target::Room(r) => self.room_cells(r),
             Target::Cells(c) => c,
+        }
+    }
+
+    /// The bounding box of a place's cells (precomputed for objects and rooms).
+    fn bounds(&self, t: Target<'_>) -> Option<Bounds> {
+        match t {
+            Target::Object(o) => match self.map.objects.binary_search_by_key(&o.id, |x| x.id) {
+                Ok(i) if std::ptr::eq(&self.map.objects[i], o) => self.object_boxes[i],
+                _ => bounds_of(&o.footprint),
+            },
+            Target::Room(r) => match self.map.rooms.binary_search_by_key(&r, |x| x.id) {
+                Ok(i) => self.room_boxes[i],
+                Err(_) => None,
+            },
+            Target::Cells(c) => bounds_of(c),
+        }
+    }
+
+    /// A lower bound of [`MapQuery::distance_cells`]: the gap between the two bounding boxes, in
+    /// cells (`None` when a place has no cells). Lets a "within d" test reject far pairs without
+    /// looking at their cells.
+    pub(crate) fn box_gap_cells(&self, a: Target<'_>, b: Target<'_>) -> Option<f64> {
+        let (a, b) = (self.bounds(a)?, self.bounds(b)?);
+        let gap = |lo1: u32, hi1: u32, lo2: u32, hi2: u32| -> f64 {
+            if hi1 < lo2 {
+                (lo2 - hi1) as f64
+            } else if hi2 < lo1 {
+                (lo1 - hi2) as f64
+            } else {
+                0.0
+            }
+        };
+        let (dr, dc) = (gap(a.0, a.2, b.0, b.2), gap(a.1, a.3, b.1, b.3));
+        Some((dr * dr + dc * dc).sqrt())
+    }
+
+    /// Whether two places share a cell. Room membership is read off the room layer, so a room of
+    /// thousands of cells costs one lookup per cell of the other place.
+    fn overlap(&self, a: Target<'_>, b: Target<'_>) -> bool {
+        match (a, b) {
+            (Target::Room(r), Target::Room(s)) => r == s && !self.room_cells(r).is_empty(),
+            (Target::Room(r), other) | (other, Target::Room(r)) => {
+                !self.room_cells(r).is_empty()
+                    && self.cells(other).iter().any(|&c| self.room_at(c) == r)
+            }
+            _ => {
+                let (ca, cb) = (self.cells(a), self.cells(b));
+                if !boxes_meet(ca, cb) {
+                    return false;
+                }
+                let (small, large) = if ca.len() <= cb.len() {
+                    (ca, cb)
+                } else {
+                    (cb, ca)
+                };
+                small.iter().any(|c| large.binary_search(c).is_ok())
+            }
+        }
+    }
+
+    /// The cells that can be nearest to a disjoint place: an object's or a room's boundary, the
+    /// cells of a region. (Of two disjoint cell sets, the nearest pair lies on both boundaries: an
+    /// inner cell always has a neighbour of its own set nearer to any outside cell.)
+    fn rim<'a>(&'a self, t: Target<'a>) -> &'a [Cell] {
+        match t {
+            Target::Room(r) => match self.map.rooms.binary_search_by_key(&r, |x| x.id) {
+                Ok(i) => self.room_boundaries[i].get_or_init(|| {
+                    let label = |r: i64, c: i64| {
+                        if r < 0 || c < 0 {
+                            return 0;
+                        }
+                        self.room_at(Cell::new(r as u32, c as u32))
+                    };
+                    self.room_cells[i]
+                        .iter()
+                        .copied()
+                        .filter(|cell| {
+                            let (r, c) = (cell.row as i64, cell.col as i64);
+                            let l = self.map.rooms[i].id;
+                            label(r - 1, c) != l
+                                || label(r + 1, c) != l
+                                || label(r, c - 1) != l
+                                || label(r, c + 1) != l
+                        })
+                        .collect()
+                }),
+                Err(_) => &[],
+            },
+            _ => self.outline(t),
         }
     }
 
@@ -206,10 +334,43 @@ impl<'m> MapQuery<'m> {
     }
 }
 
+/// Whether the bounding boxes of two non-empty cell sets intersect (a cheap disjointness test).
+fn boxes_meet(a: &[Cell], b: &[Cell]) -> bool {
+    let bbox = |cells: &[Cell]| {
+        cells
+            .iter()
+            .fold((u32::MAX, u32::MAX, 0, 0), |(r0, c0, r1, c1), c| {
+                (r0.min(c.row), c0.min(c.col), r1.max(c.row), c1.max(c.col))
+            })
+    };
+    let (a, b) = (bbox(a), bbox(b));
+    a.0 <= b.2 && b.0 <= a.2 && a.1 <= b.3 && b.1 <= a.3
+}
+
 /// Footprint cells with a 4-neighbour outside the footprint (sorted input expected).
 fn boundary(cells: &[Cell]) -> Vec<Cell> {
-    let has = |r: i64, c: i64| {
-        r >= 0 && c >= 0 && cells.binary_search(&Cell::new(r as u32, c as u32)).is_ok()
+    // Membership through a bitmap of the bounding box (one lookup per neighbour), falling back to
+    // binary search for a footprint too spread out for one.
+    let Some((r0, c0, r1, c1)) = bounds_of(cells) else {
+        return Vec::new();
+    };
+    let (h, w) = ((r1 - r0 + 1) as usize, (c1 - c0 + 1) as usize);
+    let bitmap = (h.saturating_mul(w) <= 64 * cells.len().max(64)).then(|| {
+        let mut m = vec![false; h * w];
+        for c in cells {
+            m[(c.row - r0) as usize * w + (c.col - c0) as usize] = true;
+        }
+        m
+    });
+    let has = |r: i64, c: i64| match &bitmap {
+        Some(m) => {
+            r >= r0 as i64
+                && c >= c0 as i64
+                && r <= r1 as i64
+                && c <= c1 as i64
+                && m[(r - r0 as i64) as usize * w + (c - c0 as i64) as usize]
+        }
+        None => r >= 0 && c >= 0 && cells.binary_search(&Cell::new(r as u32, c as u32)).is_ok(),
     };
     cells
         .iter()

@@ -106,10 +106,26 @@ impl MapQuery<'_> {
     /// `a.next_to(b)`: footprint gap at most `next_to_m`, different objects, not stacked.
     pub fn next_to(&self, a: &Object, b: &Object) -> bool {
         a.id != b.id
+            && self.within(
+                Target::Object(a),
+                Target::Object(b),
+                self.thresholds.next_to_m,
+            )
             && !self.related(a, b)
-            && self
-                .distance(Target::Object(a), Target::Object(b))
-                .is_some_and(|d| d <= self.thresholds.next_to_m + 1e-9)
+    }
+
+    /// `distance(a, b) <= within_m` (with the relations' 1e-9 m tolerance), rejecting places whose
+    /// bounding boxes are already farther apart before measuring cells. The box gap never exceeds
+    /// the distance and both scale by the same resolution, so the answer is the same.
+    fn within(&self, a: Target, b: Target, within_m: f64) -> bool {
+        let limit = within_m + 1e-9;
+        if self
+            .box_gap_cells(a, b)
+            .is_none_or(|g| g * self.res() > limit)
+        {
+            return false;
+        }
+        self.distance(a, b).is_some_and(|d| d <= limit)
     }
 
     /// `a.near(b, within)`: footprint gap at most `within` metres (`a` and `b` may be any places;
@@ -120,7 +136,7 @@ impl MapQuery<'_> {
         {
             return false;
         }
-        self.distance(a, b).is_some_and(|d| d <= within_m + 1e-9)
+        self.within(a, b, within_m)
     }
 
     /// The corridor between two places (`area_between`): the convex hull of both, widened by

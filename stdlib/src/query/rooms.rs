@@ -19,21 +19,37 @@ pub struct Passage {
     pub cells: Vec<Cell>,
 }
 
-pub(super) fn find_passages(map: &SemanticMap, free: &Grid<bool>) -> Vec<Passage> {
+/// The passages of `map` over the `free` cells, ordered by room pair then position.
+pub(crate) fn find_passages(map: &SemanticMap, free: &Grid<bool>) -> Vec<Passage> {
     let n = map.n();
     let label = |c: Cell| map.room_layer.get(c).copied().unwrap_or(0);
     let mut by_pair: BTreeMap<(u32, u32), BTreeSet<Cell>> = BTreeMap::new();
-    // Label changes between 4-neighbours that are both free.
-    for (cell, &a) in map.room_layer.iter_cells() {
-        if a == 0 || !free.get(cell).copied().unwrap_or(false) {
+    // Label changes between 4-neighbours that are both free (over the raw rows: this visits every
+    // cell of the map).
+    let (labels, open) = (map.room_layer.data(), free.data());
+    let ln = map.room_layer.n();
+    let is_free = |i: usize, cell: Cell| {
+        if free.n() == ln {
+            open[i]
+        } else {
+            free.get(cell).copied().unwrap_or(false)
+        }
+    };
+    for (i, &a) in labels.iter().enumerate() {
+        if a == 0 || (free.n() == ln && !open[i]) {
             continue;
         }
-        for q in [
-            Cell::new(cell.row + 1, cell.col),
-            Cell::new(cell.row, cell.col + 1),
-        ] {
-            let b = label(q);
-            if b != 0 && b != a && free.get(q).copied().unwrap_or(false) {
+        let cell = Cell::new((i / ln) as u32, (i % ln) as u32);
+        if !is_free(i, cell) {
+            continue;
+        }
+        let down =
+            (cell.row as usize + 1 < ln).then(|| (i + ln, Cell::new(cell.row + 1, cell.col)));
+        let right =
+            (cell.col as usize + 1 < ln).then(|| (i + 1, Cell::new(cell.row, cell.col + 1)));
+        for (j, q) in [down, right].into_iter().flatten() {
+            let b = labels[j];
+            if b != 0 && b != a && is_free(j, q) {
                 let set = by_pair.entry((a.min(b), a.max(b))).or_default();
                 set.insert(cell);
                 set.insert(q);
@@ -48,8 +64,13 @@ pub(super) fn find_passages(map: &SemanticMap, free: &Grid<bool>) -> Vec<Passage
     };
     let max_cells = (CONNECTOR_MAX_M2 / (res * res)).ceil() as usize;
     let mut seen = Grid::new(n, false);
-    for (cell, &l) in map.room_layer.iter_cells() {
-        if l != 0 || seen.get(cell) == Some(&true) || !free.get(cell).copied().unwrap_or(false) {
+    let same = free.n() == ln;
+    for (i, &l) in labels.iter().enumerate() {
+        if l != 0 || (same && !open[i]) {
+            continue;
+        }
+        let cell = Cell::new((i / ln) as u32, (i % ln) as u32);
+        if seen.get(cell) == Some(&true) || !is_free(i, cell) {
             continue;
         }
         let mut comp = vec![cell];
@@ -292,6 +313,33 @@ mod tests {
         assert!(q.only_reachable_through(2, &[1]));
         assert!(!q.only_reachable_through(2, &[]));
         assert_eq!(q.doorways_between(2, 1).len(), 1);
+    }
+
+    /// The map's adjacency and the queries' passages are one definition: the same room pairs.
+    #[test]
+    fn map_adjacency_is_the_passage_adjacency() {
+        let house = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../shared/procthor/fixtures/procthor10k_uniform_hard_val_150_149.json"
+        );
+        let mut maps = vec![two_rooms(), crate::demo::demo_map().expect("demo map")];
+        if std::path::Path::new(house).exists() {
+            maps.push(crate::load::load_map(house).expect("fixture house loads"));
+        }
+        for map in &maps {
+            let q = MapQuery::new(map);
+            let mut pairs: Vec<(u32, u32)> = q.passages().iter().map(|p| p.rooms).collect();
+            pairs.dedup();
+            assert_eq!(map.room_adjacency(), pairs, "{}", map.map_id);
+            for r in &map.rooms {
+                assert_eq!(
+                    map.neighbours(r.id),
+                    q.adjacent_rooms(r.id),
+                    "{}",
+                    map.map_id
+                );
+            }
+        }
     }
 
     #[test]
