@@ -63,3 +63,75 @@ fn builds_a_small_suite_from_real_houses() {
     let reread = SuiteManifest::read(dir.path()).unwrap();
     assert_eq!(reread, m);
 }
+
+/// The annotation of what the generator now places: a path-shape preference is measured in an
+/// area R that holds its whole closed reference loop (so a route that follows the loop is scored
+/// on the loop, not on the walk through the room), and an object-area must-avoid never overlaps a
+/// destination's must-pass region or the start region (it forbids a way, never the goal).
+#[test]
+fn loops_lie_in_their_region_and_object_avoids_spare_the_goals() {
+    let dir = tempfile::tempdir().unwrap();
+    let houses = shared().join("houses/procthor10k_uniform_hard_val_150.jsonl.gz");
+    let config = SuiteConfig {
+        episodes_per_scene: 8,
+        ..small_config()
+    };
+    let m = build_suite(
+        &houses,
+        &config,
+        &tools(&["shortest"]),
+        dir.path(),
+        &|_, _| {},
+    )
+    .unwrap();
+    let cells = |v: &serde_json::Value| -> std::collections::BTreeSet<(i64, i64)> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|c| (c[0].as_i64().unwrap(), c[1].as_i64().unwrap()))
+            .collect()
+    };
+    let (mut loops, mut object_avoids) = (0, 0);
+    for e in &m.episodes {
+        let text = std::fs::read_to_string(dir.path().join(&e.file)).unwrap();
+        let ep: serde_json::Value = serde_json::from_str(&text).unwrap();
+        for s in ep["soft_constraints"].as_array().unwrap() {
+            if s["preference_type"] != "path_shape_preference" {
+                continue;
+            }
+            loops += 1;
+            let ring = s["reference_trajectory"].as_array().unwrap();
+            assert!(ring.len() >= 9, "{}: loop of {} cells", e.file, ring.len());
+            assert_eq!(ring.first(), ring.last(), "{}: loop not closed", e.file);
+            let region = cells(&s["cells"]);
+            for c in ring {
+                let c = (c[0].as_i64().unwrap(), c[1].as_i64().unwrap());
+                assert!(region.contains(&c), "{}: loop cell {c:?} outside R", e.file);
+            }
+        }
+        let program = ep["m2rc_gold_program"].as_str().unwrap();
+        let hard = ep["hard_constraints"].as_array().unwrap();
+        let passes: Vec<_> = hard
+            .iter()
+            .filter(|h| h["kind"] == "must_pass")
+            .map(|h| cells(&h["cells"]))
+            .collect();
+        for h in hard.iter().filter(|h| h["kind"] == "must_avoid") {
+            let area = cells(&h["cells"]);
+            if passes.iter().any(|p| !p.is_disjoint(&area)) {
+                // Only a room avoid may meet a must-pass region (never: the generator keeps
+                // destinations and the start out of avoided rooms), so this is a failure.
+                panic!(
+                    "{}: must-avoid {} overlaps a must-pass region",
+                    e.file, h["label"]
+                );
+            }
+        }
+        object_avoids += program.matches("avoid area_").count();
+    }
+    eprintln!("{loops} loops, {object_avoids} object-area avoids");
+    assert!(
+        loops > 0 && object_avoids > 0,
+        "{loops} loops, {object_avoids} object-area avoids"
+    );
+}

@@ -98,6 +98,19 @@ pub fn raw_values(metrics: &EpisodeMetrics, types: &[&str]) -> Vec<f64> {
         .collect()
 }
 
+/// One episode's value per soft category: the mean of its finite raw values (`None` when it has
+/// none), the quantity C.7 averages over episodes.
+pub fn episode_soft_values(metrics: &EpisodeMetrics) -> ScsBlock {
+    let v = |k: usize| mean(raw_values(metrics, SCS_FIELDS[k].1));
+    ScsBlock {
+        near: v(0),
+        far: v(1),
+        relative: v(2),
+        path_shape: v(3),
+        clearance: v(4),
+    }
+}
+
 fn soft_average(records: &[&EpisodeRecord<'_>], types: &[&str]) -> Option<f64> {
     mean(
         records

@@ -4,6 +4,8 @@
 //! have a finite value of the per-episode mean.
 
 use super::MethodRun;
+use crate::metrics::aggregate::{EpisodeRecord, metric_block};
+use crate::metrics::evaluate::EpisodeMetrics;
 use serde::Serialize;
 use serde_json::Value;
 
@@ -18,9 +20,6 @@ pub const KEYS: [&str; 8] = [
     "PL",
     "SPL",
 ];
-
-/// The soft keys of a record's `soft_episode_values`, matching `KEYS[1..6]`.
-pub const SOFT_KEYS: [&str; 5] = ["near", "far", "relative", "path_shape", "clearance"];
 
 /// One block (easy, hard or overall) of one method. `None` when no episode has a value.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -75,48 +74,42 @@ pub struct Table {
     pub methods: Vec<MethodRow>,
 }
 
-fn finite(v: Option<&Value>) -> Option<f64> {
-    v.and_then(Value::as_f64).filter(|x| x.is_finite())
-}
-
-fn mean(values: &[f64]) -> Option<f64> {
-    (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
-}
-
-/// Aggregates a set of prediction records into one block.
+/// Aggregates a set of prediction records into one block with the evaluator's aggregation
+/// ([`metrics::aggregate::metric_block`], C.7) over each record's `metrics`. A record whose
+/// metrics cannot be read (not written by this runner) counts as an episode without values.
 pub fn block<'a>(records: impl Iterator<Item = &'a Value>) -> Block {
-    let mut hcs = Vec::new();
-    let mut pl = Vec::new();
-    let mut spl = Vec::new();
-    let mut soft: [Vec<f64>; 5] = Default::default();
+    let mut parsed: Vec<(String, String, EpisodeMetrics)> = Vec::new();
     let mut episodes = 0;
     for r in records {
         episodes += 1;
-        let s = r.get("metrics_summary");
-        if let Some(x) = finite(s.and_then(|s| s.get("HCS"))) {
-            hcs.push(x);
-        }
-        if let Some(x) = finite(s.and_then(|s| s.get("PL"))) {
-            pl.push(x);
-        }
-        if let Some(x) = finite(s.and_then(|s| s.get("segment_wise_SPL"))) {
-            spl.push(x);
-        }
-        for (k, key) in SOFT_KEYS.iter().enumerate() {
-            if let Some(x) = finite(r.get("soft_episode_values").and_then(|v| v.get(key))) {
-                soft[k].push(x);
-            }
+        let text = |k: &str| r.get(k).and_then(Value::as_str).unwrap_or("").to_string();
+        if let Some(m) = r
+            .get("metrics")
+            .and_then(|m| serde_json::from_value::<EpisodeMetrics>(m.clone()).ok())
+        {
+            parsed.push((text("map_id"), text("instruction_id"), m));
         }
     }
+    let records: Vec<EpisodeRecord<'_>> = parsed
+        .iter()
+        .map(|(map_id, instruction_id, metrics)| EpisodeRecord {
+            map_id,
+            instruction_id,
+            difficulty: None,
+            metrics,
+        })
+        .collect();
+    let refs: Vec<&EpisodeRecord<'_>> = records.iter().collect();
+    let b = metric_block(&refs);
     Block {
-        hcs: mean(&hcs),
-        near: mean(&soft[0]),
-        far: mean(&soft[1]),
-        relative: mean(&soft[2]),
-        path_shape: mean(&soft[3]),
-        clearance: mean(&soft[4]),
-        pl: mean(&pl),
-        spl: mean(&spl),
+        hcs: b.hcs,
+        near: b.scs.near,
+        far: b.scs.far,
+        relative: b.scs.relative,
+        path_shape: b.scs.path_shape,
+        clearance: b.scs.clearance,
+        pl: b.path_efficiency.pl,
+        spl: b.path_efficiency.h_spl,
         episodes,
     }
 }

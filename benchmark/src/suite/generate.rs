@@ -14,6 +14,7 @@ use super::refs::{
 use super::text::{self, Position};
 use crate::episode::{GENERATION_KEY, GOLD_PROGRAM_KEY};
 use m2rc_stdlib::grid::Cell;
+use m2rc_stdlib::query::{MapQuery, Target};
 use rand::seq::{IndexedRandom, SliceRandom};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -26,6 +27,34 @@ const MIN_TARGET_SPACING: f64 = 40.0;
 /// Radius of the start (record) region, cells.
 const START_RADIUS: f64 = 3.0;
 const ATTEMPTS: usize = 60;
+/// A near object is one the reference route passes at this distance range, metres.
+const NEAR_MIN_PASS_M: f64 = 0.9;
+/// Share of R's waypoints that must lie within the near term's reach of a near object.
+const NEAR_MIN_COVERAGE: f64 = 0.3;
+/// A near object needs this many free cells 0.6-0.9 m from it with nothing closer.
+const APPROACH_MIN_M: f64 = 0.6;
+const APPROACH_MAX_M: f64 = 0.9;
+const APPROACH_MIN_CELLS: usize = 10;
+const NEAR_MAX_PASS_M: f64 = 1.5;
+/// A far object is one the reference route passes within this distance of, metres.
+const FAR_MAX_PASS_M: f64 = 1.2;
+/// A relative pair is one whose D_B/D_A on the reference route is at most this.
+const RELATIVE_MAX_RATIO: f64 = 0.8;
+/// Minimum footprint gap between the two objects of a relative preference, metres.
+const MIN_SOFT_SPACING_M: f64 = 2.0;
+/// Distance from an object's outline to its circle, metres (the language's `circle`).
+const CIRCLE_OFFSET_M: f64 = 0.45;
+/// The evaluator's DTW slack δ, cells: R extends this far beyond the loop.
+const LOOP_SLACK_CELLS: f64 = 10.0;
+/// A loop keeps this many cells off the destination's must-pass region.
+const LOOP_GOAL_MARGIN: i64 = 6;
+/// Share of must-avoids placed on object areas rather than rooms.
+const OBJECT_AVOID_SHARE: f64 = 0.5;
+/// Width of the "area around an object" that a must-avoid keeps out of, metres.
+const AROUND_M: f64 = 0.5;
+/// The destination room is a preference's region only if the scored window has this many
+/// waypoints in it.
+const MIN_ROOM_WAYPOINTS: usize = 20;
 /// Fixed timestamp so that a suite is byte-identical from its seed.
 const TIMESTAMP: &str = "2026-01-01T00:00:00Z";
 
@@ -106,8 +135,34 @@ enum Soft {
     Near(u32, ObjRef),
     Far(u32, ObjRef),
     Relative(u32, ObjRef, u32, ObjRef),
-    Circle(u32, ObjRef, bool),
+    Circle(Box<CircleSoft>),
     Clearance,
+}
+
+/// A circling preference with its annotation: the canonical loop and the area R it is measured
+/// in (the area near the object that holds the loop, as the gold program's `within` says).
+#[derive(Clone, Debug)]
+struct CircleSoft {
+    object: u32,
+    desc: ObjRef,
+    clockwise: bool,
+    ring: Vec<Cell>,
+    area: Vec<Cell>,
+    within_m: f64,
+}
+
+/// What the evaluator will see of one stage on the reference route: where the stage starts (the
+/// previous destination, where the planner starts its loops) and the active trajectory of a
+/// stage-scoped preference (C.5: from the first waypoint in the previous must-pass region to the
+/// first waypoint in this one).
+struct LegView {
+    from: Cell,
+    window: Vec<Cell>,
+    /// The room of the previous destination (none for the first stage). The planner walks on
+    /// into that destination's 0.3 m goal band after the evaluator's window has already opened
+    /// at its 1 m must-pass region, so in that room the scored window holds an excursion that
+    /// no preference of this stage shaped; preferences are not measured there.
+    prev_room: Option<u32>,
 }
 
 impl Soft {
@@ -122,18 +177,57 @@ impl Soft {
     }
 }
 
+/// What a must-avoid names: a room, the area around an object, or the area between two objects.
+#[derive(Clone, Debug)]
+pub enum AvoidPlace {
+    Room(RoomRef),
+    Around(ObjRef),
+    Between(ObjRef, ObjRef),
+}
+
+/// A must-avoid with its region: the free cells of the place the gold program's `avoid` resolves
+/// to (the room's cells, or the compiler's `area_near` / `area_between` region), which is also
+/// the annotated freeform region.
+#[derive(Clone, Debug)]
+struct Avoid {
+    place: AvoidPlace,
+    cells: Vec<usize>,
+}
+
+impl Avoid {
+    fn text(&self, rng: &mut ChaCha8Rng) -> (String, String) {
+        match &self.place {
+            AvoidPlace::Room(r) => (r.text(rng), r.m2r()),
+            AvoidPlace::Around(x) => (
+                x.text(rng),
+                format!("area_near({}, within: {AROUND_M:.1}m)", x.m2r()),
+            ),
+            AvoidPlace::Between(a, b) => (
+                format!("{} and {}", a.text(rng), b.text(rng)),
+                format!("area_between({}, {})", a.m2r(), b.m2r()),
+            ),
+        }
+    }
+}
+
 struct Stage {
     target: u32,
     desc: ObjRef,
     room: u32,
     room_desc: Option<RoomRef>,
-    avoids: Vec<(u32, RoomRef)>,
+    avoids: Vec<Avoid>,
     softs: Vec<Soft>,
 }
 
 /// Per-scene precomputation shared by all of its episodes.
 pub struct Scene<'a> {
     pub ix: MapIndex<'a>,
+    /// The compiler's spatial queries, so that annotated areas are the cells the gold program's
+    /// places resolve to.
+    q: MapQuery<'a>,
+    /// Distance to the nearest obstacle (the clearance term's and the evaluator's obstacles),
+    /// cells, row-major; empty when the map has no obstacle.
+    clearance: Vec<f64>,
     pub map_key: String,
     /// Object id -> (centre, radius, region cells (all), region free reachable cells).
     targets: BTreeMap<u32, ([f64; 2], f64, Vec<usize>)>,
@@ -191,7 +285,13 @@ impl<'a> Scene<'a> {
                 descriptions.insert(id, descs);
             }
         }
+        let clearance = crate::metrics::map::EvalMap::from_semantic_map(map)
+            .clearance_field()
+            .map(|g| g.data().to_vec())
+            .unwrap_or_default();
         Scene {
+            q: MapQuery::new(ix.map),
+            clearance,
             ix,
             map_key,
             targets,
@@ -286,9 +386,10 @@ impl<'a> Scene<'a> {
             });
         }
 
-        // Must-avoid rooms: never a destination's room or the start's room.
+        // Must-avoids: rooms (never a destination's room or the start's room), or object areas
+        // (around one object, or between two) away from the start and every destination.
         let start_room = ix.room_at(start);
-        let mut global_avoids: Vec<(u32, RoomRef)> = Vec::new();
+        let mut global_avoids: Vec<Avoid> = Vec::new();
         let mut avoid_rooms: Vec<u32> = ix
             .map
             .rooms
@@ -298,58 +399,186 @@ impl<'a> Scene<'a> {
             .collect();
         avoid_rooms.shuffle(rng);
         for _ in 0..avoid_count {
-            let room = avoid_rooms.pop()?;
-            let desc = room_descriptions(ix, room, 2).choose(rng).cloned()?;
+            let avoid = if rng.random_bool(OBJECT_AVOID_SHARE) {
+                match self.object_avoid(rng, start, &stages) {
+                    Some(a) => a,
+                    None => self.room_avoid(rng, &mut avoid_rooms)?,
+                }
+            } else {
+                self.room_avoid(rng, &mut avoid_rooms)?
+            };
             if rng.random_bool(0.5) {
-                global_avoids.push((room, desc));
+                global_avoids.push(avoid);
             } else {
                 let k = rng.random_range(0..stages.len());
-                stages[k].avoids.push((room, desc));
+                stages[k].avoids.push(avoid);
             }
         }
 
-        // Preferences, each scoped to one stage and measured in that stage's destination room.
+        // The reference route first: preferences are chosen along it, where the reference cost
+        // model can act on them and the natural route does not already satisfy them.
+        let route = self.reference_route(start, &stages, &global_avoids)?;
+        let views = self.leg_views(start, &stages, &route);
         let mut used_clearance = false;
         for _ in 0..soft_count {
-            let k = rng.random_range(0..stages.len());
-            let soft = self.soft_for(rng, &stages[k], &mut used_clearance)?;
+            let mut order: Vec<usize> = (0..stages.len()).collect();
+            order.shuffle(rng);
+            let soft = order.into_iter().find_map(|k| {
+                self.soft_for(rng, &stages[k], &views[k], &mut used_clearance)
+                    .map(|s| (k, s))
+            });
+            let (k, soft) = soft?;
             stages[k].softs.push(soft);
         }
-
-        // Feasibility and reference route.
-        let route = self.reference_route(start, &stages, &global_avoids)?;
         Some(self.render(rng, id, difficulty, start, stages, global_avoids, route))
     }
 
+    /// Per stage, the stage start on the reference route and the evaluator's active window.
+    fn leg_views(&self, start: Cell, stages: &[Stage], route: &[Cell]) -> Vec<LegView> {
+        let ix = &self.ix;
+        let start_region: Vec<Cell> = disc(start, START_RADIUS);
+        let inside = |k: usize, c: Cell| -> bool {
+            if k == 0 {
+                start_region.contains(&c)
+            } else {
+                self.targets[&stages[k - 1].target]
+                    .2
+                    .binary_search(&ix.free.index(c))
+                    .is_ok()
+            }
+        };
+        // First waypoint hit of each must-pass region in order; the cursor stays on the hit.
+        let mut hits: Vec<Option<usize>> = Vec::new();
+        let mut cursor = 0;
+        for k in 0..=stages.len() {
+            let hit = (cursor..route.len()).find(|&i| inside(k, route[i]));
+            if let Some(h) = hit {
+                cursor = h;
+            }
+            hits.push(hit);
+        }
+        // Where each leg of the reference route ends (the first cell in its goal).
+        let mut at = 0;
+        let mut views = Vec::new();
+        for k in 0..stages.len() {
+            let from = route[at];
+            let window = match (hits[k], hits[k + 1]) {
+                (Some(f), Some(t)) if t >= f => route[f..=t].to_vec(),
+                (Some(f), _) => route[f..].to_vec(),
+                (None, Some(t)) => route[..=t].to_vec(),
+                (None, None) => route.to_vec(),
+            };
+            let prev_room = k.checked_sub(1).map(|j| stages[j].room);
+            views.push(LegView {
+                from,
+                window,
+                prev_room,
+            });
+            if let Some(end) = (at..route.len()).find(|&i| inside(k + 1, route[i])) {
+                at = end;
+            }
+        }
+        views
+    }
+
+    /// A preference for one stage, chosen along the reference route's active window in the
+    /// stage's destination room (the region R every object preference is measured in):
+    ///
+    /// * `near`: an object the natural route passes at 0.9-1.5 m for a fair share of
+    ///   R: inside the reference near term's reach (1.5 m, beyond which it is flat and pulls
+    ///   nowhere) but not already hugged (the clearance term, 36 against near's 8, keeps a planned
+    ///   route about 0.7 m off furniture), with open floor toward it ([`Scene::open_approach`]);
+    /// * `far`: an object the natural route passes within 1.2 m of;
+    /// * `relative`: a pair the natural route is closer to the wrong one of (D_B/D_A ≤ 0.8);
+    /// * `circle`: a floor-standing object whose loop stays clear of the destination's must-pass
+    ///   region (entering it ends the scored window), alone in its leg;
+    /// * `clearance` at most once per episode.
     fn soft_for(
         &self,
         rng: &mut ChaCha8Rng,
         stage: &Stage,
+        view: &LegView,
         used_clearance: &mut bool,
     ) -> Option<Soft> {
         let ix = &self.ix;
-        // Reference objects: describable objects of the destination room (shallow descriptions).
-        let mut in_room: Vec<u32> = self
-            .descriptions
-            .keys()
+        // R is the destination room, which every route of the leg must enter: a preference
+        // scoped to a room the leg merely may cross would make the planner avoid that room (its
+        // soft cost is zero outside the scope). Not when the previous destination lies in the
+        // same room, nor when the window has too few waypoints there to measure, and one object
+        // preference per leg, so that none is measured against another's pull.
+        let w_r: Vec<Cell> = view
+            .window
+            .iter()
             .copied()
-            .filter(|&o| ix.object(o).room == Some(stage.room) && o != stage.target)
+            .filter(|&c| ix.room_at(c) == stage.room)
             .collect();
-        in_room.shuffle(rng);
-        let describe = |o: u32, rng: &mut ChaCha8Rng| {
-            let d = self.describable(o, 3);
-            d.choose(rng).map(|r| (*r).clone())
-        };
+        let measurable = view.prev_room != Some(stage.room)
+            && w_r.len() >= MIN_ROOM_WAYPOINTS
+            && stage.softs.iter().all(|s| matches!(s, Soft::Clearance));
+        let mut in_room: Vec<u32> = Vec::new();
+        if measurable {
+            in_room = self
+                .descriptions
+                .keys()
+                .copied()
+                .filter(|&o| ix.object(o).room == Some(stage.room) && o != stage.target)
+                .collect();
+            in_room.shuffle(rng);
+        }
         let mut kinds = vec!["near", "far", "relative", "path_shape"];
+        let has_circle = stage.softs.iter().any(|s| matches!(s, Soft::Circle(..)));
+        kinds.retain(|k| !has_circle && stage.softs.iter().all(|s| s.kind() != *k));
         if !*used_clearance {
             kinds.push("clearance");
         }
         kinds.shuffle(rng);
         for kind in kinds {
+            if kind == "clearance" {
+                *used_clearance = true;
+                return Some(Soft::Clearance);
+            }
+            if measurable
+                && let Some(soft) = self.object_soft(rng, kind, stage, view, &in_room, &w_r)
+            {
+                return Some(soft);
+            }
+        }
+        None
+    }
+
+    /// An object preference of `kind` in the leg's destination room (see [`Scene::soft_for`]).
+    fn object_soft(
+        &self,
+        rng: &mut ChaCha8Rng,
+        kind: &str,
+        stage: &Stage,
+        view: &LegView,
+        in_room: &[u32],
+        w_r: &[Cell],
+    ) -> Option<Soft> {
+        let ix = &self.ix;
+        let res = ix.resolution();
+        let describe = |o: u32, rng: &mut ChaCha8Rng| {
+            let d = self.describable(o, 3);
+            d.choose(rng).map(|r| (*r).clone())
+        };
+        let floor = |o: u32| ix.object(o).parent.is_none();
+        {
             match kind {
                 "near" | "far" => {
-                    if let Some(&o) = in_room.first() {
-                        let d = describe(o, rng)?;
+                    let pick = in_room.iter().copied().find(|&o| {
+                        let (min, _) = route_distance(w_r, &ix.object(o).footprint);
+                        let min = min * res;
+                        if kind == "near" {
+                            (NEAR_MIN_PASS_M..=NEAR_MAX_PASS_M).contains(&min)
+                                && self.open_approach(o, w_r)
+                        } else {
+                            min <= FAR_MAX_PASS_M
+                        }
+                    });
+                    if let Some(o) = pick
+                        && let Some(d) = describe(o, rng)
+                    {
                         return Some(if kind == "near" {
                             Soft::Near(o, d)
                         } else {
@@ -358,53 +587,135 @@ impl<'a> Scene<'a> {
                     }
                 }
                 "relative" => {
-                    let a = in_room.first().copied();
-                    let b = in_room.iter().copied().find(|&b| {
-                        a.is_some_and(|a| ix.object(a).category != ix.object(b).category)
-                    });
-                    if let (Some(a), Some(b)) = (a, b) {
-                        return Some(Soft::Relative(a, describe(a, rng)?, b, describe(b, rng)?));
-                    }
-                }
-                "path_shape" => {
-                    // Circle a floor-standing object the robot can loop around.
-                    if let Some(&o) = in_room
+                    let means: Vec<(u32, f64)> = in_room
                         .iter()
-                        .find(|&&o| ix.object(o).parent.is_none() && self.ring(o, false).len() >= 8)
+                        .map(|&o| (o, route_distance(w_r, &ix.object(o).footprint).1))
+                        .collect();
+                    let pair = means.iter().find_map(|&(a, da)| {
+                        means
+                            .iter()
+                            .find(|&&(b, db)| {
+                                ix.object(a).category != ix.object(b).category
+                                    && da > 1e-6
+                                    && db / da <= RELATIVE_MAX_RATIO
+                                    && ix.footprint_distance(a, b) * res >= MIN_SOFT_SPACING_M
+                            })
+                            .map(|&(b, _)| (a, b))
+                    });
+                    if let Some((a, b)) = pair
+                        && let (Some(da), Some(db)) = (describe(a, rng), describe(b, rng))
                     {
-                        return Some(Soft::Circle(o, describe(o, rng)?, rng.random_bool(0.3)));
+                        return Some(Soft::Relative(a, da, b, db));
                     }
                 }
-                _ => {
-                    *used_clearance = true;
-                    return Some(Soft::Clearance);
+                // A loop reshapes the whole leg: alone in it.
+                "path_shape" if stage.softs.is_empty() => {
+                    let clockwise = rng.random_bool(0.3);
+                    let goal = &self.targets[&stage.target].2;
+                    let near_goal = dilate(ix.map.n(), goal, LOOP_GOAL_MARGIN);
+                    for &o in in_room.iter().filter(|&&o| floor(o)) {
+                        let ring = self.ring(o, clockwise, view.from);
+                        if ring.len() < 8 || ring.iter().any(|&c| near_goal[ix.free.index(c)]) {
+                            continue;
+                        }
+                        let Some(desc) = describe(o, rng) else {
+                            continue;
+                        };
+                        let obj = ix.object(o);
+                        let farthest = ring_extent(&ring, &obj.footprint);
+                        // R holds the loop with the evaluator's DTW slack (δ = 10 cells) around it.
+                        let within_m = ((farthest + LOOP_SLACK_CELLS) * res / 0.05).ceil() * 0.05;
+                        let within_m: f64 = format!("{within_m:.2}").parse().unwrap_or(within_m);
+                        let area: Vec<Cell> = self
+                            .q
+                            .area_near(Target::Object(obj), within_m)
+                            .into_iter()
+                            .filter(|&c| ix.free.passable(c))
+                            .collect();
+                        return Some(Soft::Circle(Box::new(CircleSoft {
+                            object: o,
+                            desc,
+                            clockwise,
+                            ring,
+                            area,
+                            within_m,
+                        })));
+                    }
                 }
+                _ => {}
             }
         }
         None
     }
 
-    /// The canonical circling trajectory around an object: free cells on a circle of radius
-    /// (footprint extent + 0.5 m) around its centre, in the requested turning direction as seen
-    /// on the map image (row axis pointing down).
-    fn ring(&self, o: u32, clockwise: bool) -> Vec<Cell> {
+    /// Whether the route can bend toward `o` without the clearance term pushing it back: the
+    /// floor around `o` has room to stand 0.6-0.9 m from it with nothing else closer (other
+    /// furniture, such as the chairs around a table, or a wall would keep a planned route off),
+    /// and at least 30% of R's waypoints lie within the near term's reach.
+    fn open_approach(&self, o: u32, w_r: &[Cell]) -> bool {
+        let ix = &self.ix;
+        let res = ix.resolution();
+        let reach = NEAR_MAX_PASS_M / res;
+        let fp = &ix.object(o).footprint;
+        let dist = |c: Cell| fp.iter().map(|f| c.dist(*f)).fold(f64::INFINITY, f64::min);
+        let within = w_r.iter().filter(|&&c| dist(c) <= reach).count();
+        if (within as f64) < NEAR_MIN_COVERAGE * w_r.len() as f64 {
+            return false;
+        }
+        let (lo, hi) = (APPROACH_MIN_M / res, APPROACH_MAX_M / res);
+        let (mut r0, mut c0, mut r1, mut c1) = (u32::MAX, u32::MAX, 0, 0);
+        for f in fp {
+            (r0, c0, r1, c1) = (r0.min(f.row), c0.min(f.col), r1.max(f.row), c1.max(f.col));
+        }
+        let pad = hi.ceil() as u32;
+        let n = ix.map.n() as u32;
+        let mut open = 0;
+        for r in r0.saturating_sub(pad)..=(r1 + pad).min(n - 1) {
+            for c in c0.saturating_sub(pad)..=(c1 + pad).min(n - 1) {
+                let cell = Cell::new(r, c);
+                if !ix.free.passable(cell) {
+                    continue;
+                }
+                let d = dist(cell);
+                let clear = self
+                    .clearance
+                    .get(ix.free.index(cell))
+                    .copied()
+                    .unwrap_or(0.0);
+                if (lo..=hi).contains(&d) && clear + 1.0 >= d.min(lo) {
+                    open += 1;
+                }
+            }
+        }
+        open >= APPROACH_MIN_CELLS
+    }
+
+    /// The canonical circling trajectory around an object, as the language defines `circle`
+    /// (`docs/semantics.md`): a circle about the footprint's centroid of radius half its larger
+    /// extent + 0.45 m, turning in the requested direction as seen on the map image (clockwise =
+    /// increasing atan2(row, col)), over the free cells of the object's room, starting at the
+    /// point nearest where the stage starts and closed.
+    fn ring(&self, o: u32, clockwise: bool, from: Cell) -> Vec<Cell> {
         let ix = &self.ix;
         let obj = ix.object(o);
-        let [cr, cc] = obj.center;
-        let extent = obj
-            .footprint
-            .iter()
-            .map(|f| (f.row as f64 - cr).hypot(f.col as f64 - cc))
-            .fold(0.0, f64::max);
-        let radius = extent + 0.5 / ix.resolution();
-        let steps = ((2.0 * std::f64::consts::PI * radius).ceil() as usize).clamp(16, 720);
+        let cells: Vec<Cell> = obj.footprint.clone();
+        let Some([cr, cc]) = MapQuery::centroid(&cells) else {
+            return Vec::new();
+        };
+        let (mut r0, mut c0, mut r1, mut c1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+        for c in &cells {
+            let (r, k) = (c.row as f64, c.col as f64);
+            (r0, c0, r1, c1) = (r0.min(r), c0.min(k), r1.max(r), c1.max(k));
+        }
+        let radius = (r1 - r0).max(c1 - c0) / 2.0 + CIRCLE_OFFSET_M / ix.resolution();
+        let steps = ((std::f64::consts::TAU * radius).ceil() as usize).clamp(16, 720);
         let mut out: Vec<Cell> = Vec::new();
-        for s in 0..=steps {
-            let mut theta = 2.0 * std::f64::consts::PI * s as f64 / steps as f64;
-            if clockwise {
+        for s in 0..steps {
+            let mut theta = std::f64::consts::TAU * s as f64 / steps as f64;
+            if !clockwise {
                 theta = -theta;
             }
-            let r = (cr - radius * theta.sin()).round();
+            let r = (cr + radius * theta.sin()).round();
             let c = (cc + radius * theta.cos()).round();
             if r < 0.0 || c < 0.0 {
                 continue;
@@ -413,29 +724,121 @@ impl<'a> Scene<'a> {
             if ix.free.passable(cell)
                 && ix.room_at(cell) == obj.room.unwrap_or(0)
                 && out.last() != Some(&cell)
+                && out.first() != Some(&cell)
             {
                 out.push(cell);
             }
         }
+        if let Some(first) =
+            (0..out.len()).min_by(|&a, &b| out[a].dist(from).total_cmp(&out[b].dist(from)))
+        {
+            out.rotate_left(first);
+        }
+        if out.len() > 1 {
+            out.push(out[0]);
+        }
         out
     }
 
-    fn stage_forbidden(&self, stages: &[Stage], global: &[(u32, RoomRef)], k: usize) -> Vec<usize> {
+    fn room_avoid(&self, rng: &mut ChaCha8Rng, rooms: &mut Vec<u32>) -> Option<Avoid> {
+        let room = rooms.pop()?;
+        let desc = room_descriptions(&self.ix, room, 2).choose(rng).cloned()?;
+        Some(Avoid {
+            place: AvoidPlace::Room(desc),
+            cells: self.ix.room_free_cells(room),
+        })
+    }
+
+    /// "Keep out of the area around the dining table" (the compiler's `area_near(x, 0.5 m)`) or
+    /// "don't walk between the sofa and the TV" (`area_between`, two objects of one room 0.5-3 m
+    /// apart). The region may not touch the start region or any destination's must-pass region,
+    /// so that it forbids a way of getting there, never the getting there.
+    fn object_avoid(&self, rng: &mut ChaCha8Rng, start: Cell, stages: &[Stage]) -> Option<Avoid> {
+        let ix = &self.ix;
+        let res = ix.resolution();
+        let n = ix.map.n();
+        let mut blocked = vec![false; n * n];
+        for c in disc(start, START_RADIUS + 2.0) {
+            if (c.row as usize) < n && (c.col as usize) < n {
+                blocked[ix.free.index(c)] = true;
+            }
+        }
+        for s in stages {
+            for (i, b) in dilate(n, &self.targets[&s.target].2, 2)
+                .into_iter()
+                .enumerate()
+            {
+                blocked[i] |= b;
+            }
+        }
+        let targets: Vec<u32> = stages.iter().map(|s| s.target).collect();
+        let mut pool: Vec<u32> = self
+            .descriptions
+            .keys()
+            .copied()
+            .filter(|o| !targets.contains(o) && ix.object(*o).parent.is_none())
+            .collect();
+        pool.shuffle(rng);
+        let describe = |o: u32, rng: &mut ChaCha8Rng| {
+            let d = self.describable(o, 2);
+            d.choose(rng).map(|r| (*r).clone())
+        };
+        let region = |cells: Vec<Cell>| -> Option<Vec<usize>> {
+            let free: Vec<usize> = cells
+                .into_iter()
+                .filter(|&c| ix.free.passable(c))
+                .map(|c| ix.free.index(c))
+                .collect();
+            (!free.is_empty() && free.iter().all(|&i| !blocked[i])).then_some(free)
+        };
+        let between = rng.random_bool(0.5);
+        for (i, &a) in pool.iter().enumerate().take(40) {
+            let oa = ix.object(a);
+            if between {
+                let partner = pool[i + 1..].iter().copied().find(|&b| {
+                    let ob = ix.object(b);
+                    let gap = ix.footprint_distance(a, b) * res;
+                    ob.room == oa.room && ob.category != oa.category && (0.5..=3.0).contains(&gap)
+                });
+                let Some(b) = partner else { continue };
+                let cells = self
+                    .q
+                    .corridor(Target::Object(oa), Target::Object(ix.object(b)));
+                if let Some(cells) = region(cells)
+                    && let (Some(da), Some(db)) = (describe(a, rng), describe(b, rng))
+                {
+                    return Some(Avoid {
+                        place: AvoidPlace::Between(da, db),
+                        cells,
+                    });
+                }
+            } else {
+                let cells = self.q.area_near(Target::Object(oa), AROUND_M);
+                if let Some(cells) = region(cells)
+                    && let Some(d) = describe(a, rng)
+                {
+                    return Some(Avoid {
+                        place: AvoidPlace::Around(d),
+                        cells,
+                    });
+                }
+            }
+        }
+        None
+    }
+
+    fn stage_forbidden(&self, stages: &[Stage], global: &[Avoid], k: usize) -> Vec<usize> {
         let ix = &self.ix;
         let mut cells: Vec<usize> = Vec::new();
-        for (room, _) in global.iter().chain(stages[k].avoids.iter()) {
-            cells.extend(ix.room_free_cells(*room));
+        for a in global.iter().chain(stages[k].avoids.iter()) {
+            cells.extend(a.cells.iter().copied());
         }
         // An avoid of the next leg must not be touched where this leg ends: the evaluator would
         // count it against the next leg (its exit coincides with the goal entry).
         if let Some(next) = stages.get(k + 1) {
             let near_goal = dilate(ix.map.n(), &self.targets[&stages[k].target].2, 2);
-            for (room, _) in &next.avoids {
-                cells.extend(
-                    ix.room_free_cells(*room)
-                        .into_iter()
-                        .filter(|&i| near_goal[i]),
-                );
+            for a in &next.avoids {
+                cells.extend(a.cells.iter().copied().filter(|&i| near_goal[i]));
             }
         }
         cells
@@ -445,7 +848,7 @@ impl<'a> Scene<'a> {
         &self,
         start: Cell,
         stages: &[Stage],
-        global: &[(u32, RoomRef)],
+        global: &[Avoid],
     ) -> Option<Vec<Cell>> {
         let ix = &self.ix;
         let goals: Vec<Vec<bool>> = stages
@@ -479,7 +882,7 @@ impl<'a> Scene<'a> {
         difficulty: Difficulty,
         start: Cell,
         stages: Vec<Stage>,
-        global_avoids: Vec<(u32, RoomRef)>,
+        global_avoids: Vec<Avoid>,
         route: Vec<Cell>,
     ) -> GeneratedEpisode {
         let ix = &self.ix;
@@ -553,12 +956,18 @@ impl<'a> Scene<'a> {
                 None => format!("{var}.room()"),
             };
             let mut body: Vec<String> = Vec::new();
-            for (room, desc) in &stage.avoids {
+            for avoid in &stage.avoids {
                 avoid_no += 1;
-                let t = desc.text(rng);
-                sentences.push(text::avoid_stage(rng, &t));
-                hard.push(avoid_json(ix, avoid_no, *room, &t, stage_scope.clone()));
-                body.push(format!("avoid {}", desc.m2r()));
+                let (t, m2r) = avoid.text(rng);
+                sentences.push(text::avoid(rng, &avoid.place, &t, false));
+                hard.push(avoid_json(
+                    ix,
+                    avoid_no,
+                    &avoid.cells,
+                    &t,
+                    stage_scope.clone(),
+                ));
+                body.push(format!("avoid {m2r}"));
             }
             let region_cells = ix.room_free_cells(stage.room);
             let room_center = cells_center(ix, &region_cells);
@@ -614,20 +1023,28 @@ impl<'a> Scene<'a> {
                             db.m2r()
                         ));
                     }
-                    Soft::Circle(o, d, clockwise) => {
+                    Soft::Circle(circle) => {
+                        let CircleSoft {
+                            object: o,
+                            desc: d,
+                            clockwise,
+                            ring,
+                            area,
+                            within_m,
+                        } = circle.as_ref();
                         let t = d.text(rng);
                         stat("path-shape preference".into(), d, &t);
-                        sentences.push(text::circle(rng, &t, &room_text, *clockwise));
-                        let ring: Vec<Value> = self
-                            .ring(*o, *clockwise)
-                            .iter()
-                            .map(|c| json!([c.row, c.col]))
-                            .collect();
+                        sentences.push(text::circle(rng, &t, *clockwise));
+                        let ring: Vec<Value> = ring.iter().map(|c| json!([c.row, c.col])).collect();
                         let dir = if *clockwise {
                             "clockwise"
                         } else {
                             "counterclockwise"
                         };
+                        let area_ix: Vec<usize> = area.iter().map(|&c| ix.free.index(c)).collect();
+                        c["center"] = json!(cells_center(ix, &area_ix));
+                        c["cells"] = cells_json(ix, &area_ix);
+                        c["label"] = json!(format!("path_shape around {t}"));
                         c["preference_type"] = json!("path_shape_preference");
                         c["object_ids"] = json!([o]);
                         c["reference_region"] = json!({"mode": "object", "object_id": o, "cells": footprint_json(ix, *o)});
@@ -636,12 +1053,14 @@ impl<'a> Scene<'a> {
                         c["path_shape_annotation"] = json!({
                             "version": 1, "annotation_type": "canonical_path_shape_reference",
                             "shape_spec": {"type": "circle", "direction": dir, "ordered_control_points": ring.clone()},
-                            "shape_reference_trajectory": ring, "shape_reference_source": "m2rc_canonical_circle_v1",
-                            "annotator_id": "m2rc-suite", "notes": "generated: circle of radius footprint extent + 0.5 m",
+                            "shape_reference_trajectory": ring, "shape_reference_source": "m2rc_canonical_circle_v2",
+                            "annotator_id": "m2rc-suite",
+                            "notes": "generated: circle about the footprint centroid, radius half the larger extent + 0.45 m, from the point nearest the stage start, closed; R = the area within `within` of the object",
                             "created_at": TIMESTAMP, "updated_at": TIMESTAMP, "history": [],
                         });
                         body.push(format!(
-                            "prefer circle({}, {dir}) within {room_m2r}",
+                            "prefer circle({}, {dir}) within area_near({}, within: {within_m:.2}m)",
+                            d.m2r(),
                             d.m2r()
                         ));
                     }
@@ -663,12 +1082,12 @@ impl<'a> Scene<'a> {
                 program_route.push("  }".to_string());
             }
         }
-        for (room, desc) in &global_avoids {
+        for avoid in &global_avoids {
             avoid_no += 1;
-            let t = desc.text(rng);
-            sentences.push(text::avoid_global(rng, &t));
-            hard.push(avoid_json(ix, avoid_no, *room, &t, global_scope()));
-            program_route.push(format!("  avoid {}", desc.m2r()));
+            let (t, m2r) = avoid.text(rng);
+            sentences.push(text::avoid(rng, &avoid.place, &t, true));
+            hard.push(avoid_json(ix, avoid_no, &avoid.cells, &t, global_scope()));
+            program_route.push(format!("  avoid {m2r}"));
         }
         // The annotator's default clearance entry, always present.
         soft_json.push(json!({
@@ -757,17 +1176,46 @@ impl<'a> Scene<'a> {
     }
 }
 
+/// (minimum, mean) over waypoints of the distance to the nearest footprint cell, cells.
+fn route_distance(points: &[Cell], footprint: &[Cell]) -> (f64, f64) {
+    if points.is_empty() || footprint.is_empty() {
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    let mut min = f64::INFINITY;
+    let mut sum = 0.0;
+    for p in points {
+        let d = footprint
+            .iter()
+            .map(|f| p.dist(*f))
+            .fold(f64::INFINITY, f64::min);
+        min = min.min(d);
+        sum += d;
+    }
+    (min, sum / points.len() as f64)
+}
+
+/// The largest distance from a ring cell to the footprint, cells.
+fn ring_extent(ring: &[Cell], footprint: &[Cell]) -> f64 {
+    ring.iter()
+        .map(|p| {
+            footprint
+                .iter()
+                .map(|f| p.dist(*f))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max)
+}
+
 fn global_scope() -> Value {
     json!({"type": "global", "from_order": null, "to_order": null})
 }
 
-fn avoid_json(ix: &MapIndex<'_>, no: usize, room: u32, label: &str, scope: Value) -> Value {
-    let cells = ix.room_free_cells(room);
-    let center = cells_center(ix, &cells);
+fn avoid_json(ix: &MapIndex<'_>, no: usize, cells: &[usize], label: &str, scope: Value) -> Value {
+    let center = cells_center(ix, cells);
     json!({
         "constraint_id": format!("avoid_{no}"), "kind": "must_avoid", "shape": "freeform",
         "center": center, "radius": 1.0, "width": 1.0, "height": 1.0, "order": null, "source": "custom",
-        "object_id": null, "scope": scope, "label": label, "cells": cells_json(ix, &cells),
+        "object_id": null, "scope": scope, "label": label, "cells": cells_json(ix, cells),
     })
 }
 

@@ -1,6 +1,7 @@
 //! Sentence templates for instructions. Several phrasings per clause, chosen by the episode's seeded
 //! RNG, so that a suite does not read as one sentence pattern repeated a thousand times.
 
+use super::generate::AvoidPlace;
 use rand::seq::IndexedRandom;
 use rand_chacha::ChaCha8Rng;
 
@@ -79,9 +80,9 @@ pub fn near(rng: &mut ChaCha8Rng, x: &str, room: &str) -> String {
     let t = pick(
         rng,
         &[
-            "on the way there, while you are in {r}, stay as close as you can to {x}.",
-            "on this leg, keep near {x} as you move through {r}.",
-            "while crossing {r} on the way, hug {x} as closely as possible.",
+            "in {r}, stay close to {x}.",
+            "keep near {x} as you cross {r}.",
+            "while crossing {r}, hug {x}.",
         ],
     );
     fill(t, &[("x", x), ("r", room)])
@@ -91,9 +92,9 @@ pub fn far(rng: &mut ChaCha8Rng, x: &str, room: &str) -> String {
     let t = pick(
         rng,
         &[
-            "on the way there, keep well away from {x} while you are in {r}.",
-            "on this leg, stay as far as possible from {x} when crossing {r}.",
-            "in {r}, give {x} a wide berth on the way.",
+            "in {r}, keep well away from {x}.",
+            "stay far from {x} when crossing {r}.",
+            "in {r}, give {x} a wide berth.",
         ],
     );
     fill(t, &[("x", x), ("r", room)])
@@ -103,15 +104,15 @@ pub fn relative(rng: &mut ChaCha8Rng, a: &str, b: &str, room: &str) -> String {
     let t = pick(
         rng,
         &[
-            "on the way there, inside {r}, stay closer to {a} than to {b}.",
-            "on this leg, when moving through {r}, keep nearer to {a} than to {b}.",
-            "while in {r} on the way, favour the side of {a} over {b}.",
+            "in {r}, stay closer to {a} than to {b}.",
+            "crossing {r}, keep nearer to {a} than to {b}.",
+            "in {r}, favour the side of {a} over {b}.",
         ],
     );
     fill(t, &[("a", a), ("b", b), ("r", room)])
 }
 
-pub fn circle(rng: &mut ChaCha8Rng, x: &str, room: &str, clockwise: bool) -> String {
+pub fn circle(rng: &mut ChaCha8Rng, x: &str, clockwise: bool) -> String {
     let dir = if clockwise {
         "clockwise"
     } else {
@@ -120,46 +121,69 @@ pub fn circle(rng: &mut ChaCha8Rng, x: &str, room: &str, clockwise: bool) -> Str
     let t = pick(
         rng,
         &[
-            "on the way there, circle around {x} {d} while you are in {r}.",
-            "on this leg, loop {d} around {x} in {r}.",
+            "on the way there, circle around {x} {d}.",
+            "on this leg, loop {d} around {x}.",
+            "walk a {d} loop around {x} on the way.",
         ],
     );
-    fill(t, &[("x", x), ("r", room), ("d", dir)])
+    fill(t, &[("x", x), ("d", dir)])
 }
 
 pub fn clearance(rng: &mut ChaCha8Rng) -> String {
     pick(
         rng,
         &[
-            "On this leg, keep a safe distance from furniture and walls.",
-            "Stay clear of obstacles while you go there.",
-            "On the way, do not brush past any furniture; keep some clearance.",
+            "Keep a safe distance from furniture.",
+            "Stay clear of obstacles on the way.",
+            "Do not brush past any furniture.",
         ],
     )
     .to_string()
 }
 
-pub fn avoid_global(rng: &mut ChaCha8Rng, room: &str) -> String {
-    let t = pick(
-        rng,
-        &[
-            "never enter {r}.",
-            "do not go through {r} at any point.",
-            "stay out of {r} for the whole route.",
-            "at no time should you pass through {r}.",
-        ],
-    );
-    fill(t, &[("r", room)])
-}
-
-pub fn avoid_stage(rng: &mut ChaCha8Rng, room: &str) -> String {
-    let t = pick(
-        rng,
-        &[
-            "on the way there, do not pass through {r}.",
-            "on this leg, avoid {r}.",
-            "do not cut through {r} while heading there.",
-        ],
-    );
-    fill(t, &[("r", room)])
+/// A must-avoid sentence: for the whole route (`global`) or for the current leg.
+pub fn avoid(rng: &mut ChaCha8Rng, place: &AvoidPlace, x: &str, global: bool) -> String {
+    let t = match (place, global) {
+        (AvoidPlace::Room(_), true) => pick(
+            rng,
+            &[
+                "never enter {x}.",
+                "do not go through {x} at any point.",
+                "stay out of {x} for the whole route.",
+            ],
+        ),
+        (AvoidPlace::Room(_), false) => pick(
+            rng,
+            &[
+                "on the way there, do not pass through {x}.",
+                "on this leg, avoid {x}.",
+                "do not cut through {x} while heading there.",
+            ],
+        ),
+        (AvoidPlace::Around(_), true) => pick(
+            rng,
+            &[
+                "keep out of the area around {x}.",
+                "never step close to {x}.",
+            ],
+        ),
+        (AvoidPlace::Around(_), false) => pick(
+            rng,
+            &[
+                "on this leg, keep out of the area around {x}.",
+                "on the way there, do not step close to {x}.",
+            ],
+        ),
+        (AvoidPlace::Between(..), true) => {
+            pick(rng, &["don't walk between {x}.", "never pass between {x}."])
+        }
+        (AvoidPlace::Between(..), false) => pick(
+            rng,
+            &[
+                "on this leg, don't walk between {x}.",
+                "on the way there, do not pass between {x}.",
+            ],
+        ),
+    };
+    fill(t, &[("x", x)])
 }
