@@ -57,9 +57,33 @@ pub struct CompiledRoute {
 }
 
 /// Compiles `source` on `map` into a planned route, or every diagnostic that prevents it.
+///
+/// Builds the map's planning context when the program gets as far as planning; callers that
+/// plan many programs on one map (the benchmark runner, the language server) should build a
+/// [`MapContext`] once and call [`compile_and_plan_with`].
 pub fn compile_and_plan(
     source: &str,
     map: &SemanticMap,
+    opts: &PipelineOptions,
+) -> Result<CompiledRoute, Vec<Diagnostic>> {
+    compile(source, map, None, opts)
+}
+
+/// [`compile_and_plan`] with a planning context built once for `map` and shared across calls
+/// (and threads): the distance fields a plan needs are computed once per map, not per program.
+pub fn compile_and_plan_with(
+    source: &str,
+    map: &SemanticMap,
+    ctx: &MapContext,
+    opts: &PipelineOptions,
+) -> Result<CompiledRoute, Vec<Diagnostic>> {
+    compile(source, map, Some(ctx), opts)
+}
+
+fn compile(
+    source: &str,
+    map: &SemanticMap,
+    shared: Option<&MapContext>,
     opts: &PipelineOptions,
 ) -> Result<CompiledRoute, Vec<Diagnostic>> {
     let vocab = Vocabulary::from_map(map);
@@ -77,7 +101,7 @@ pub fn compile_and_plan(
     let mut route: Option<Vec<Cell>> = None;
     let mut last: Option<(RouteIr, PlannedRoute)> = None;
     let mut rounds = 0;
-    let mut ctx: Option<MapContext> = None;
+    let mut owned: Option<Result<MapContext, String>> = None;
     loop {
         let g = ground_checked(
             &checked,
@@ -123,15 +147,13 @@ pub fn compile_and_plan(
             }
         }
         // One planning context per map: the re-plan rounds share its distance fields.
-        let c = match ctx.take() {
-            Some(c) => Ok(c),
-            None => MapContext::new(map),
+        let problem = match shared {
+            Some(c) => lower_with(&ir, map, c, opts.profile.clone()),
+            None => match owned.get_or_insert_with(|| MapContext::new(map)) {
+                Ok(c) => lower_with(&ir, map, c, opts.profile.clone()),
+                Err(m) => Err(m.clone()),
+            },
         };
-        let problem = c.and_then(|c| {
-            let p = lower_with(&ir, map, &c, opts.profile.clone());
-            ctx = Some(c);
-            p
-        });
         let problem = problem.map_err(|m| {
             with_warnings(
                 vec![Diagnostic::new(Code::MalformedIr, Span::default(), m)],

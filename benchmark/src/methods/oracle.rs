@@ -2,12 +2,11 @@
 //! `hard-only` first removes every `prefer` constraint from the program (through the AST, so
 //! any program the parser accepts can be stripped, not only generated ones).
 
-use super::{Method, MethodError, Prediction, start_cell};
+use super::{Method, MethodError, Prediction, PreparedMap, start_cell};
 use crate::episode::Episode;
-use crate::pipeline::{PipelineOptions, compile_and_plan};
+use crate::pipeline::{PipelineOptions, compile_and_plan_with};
 use m2rc_grammar::ast::{ConstraintKind, Item, Program, RouteItem, StageItem};
 use m2rc_stdlib::grid::Cell;
-use m2rc_stdlib::map::SemanticMap;
 
 pub struct Oracle {
     /// Keep the soft preferences (`oracle`) or drop them (`hard-only`).
@@ -19,7 +18,7 @@ impl Method for Oracle {
         if self.soft { "oracle" } else { "hard-only" }
     }
 
-    fn predict(&self, map: &SemanticMap, episode: &Episode) -> Result<Prediction, MethodError> {
+    fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
         let gold = episode.m2rc_gold_program.as_deref().ok_or_else(|| {
             MethodError("the episode has no gold program (`m2rc_gold_program`)".into())
         })?;
@@ -28,8 +27,8 @@ impl Method for Oracle {
         } else {
             strip_preferences(gold)?
         };
-        let start = start_cell(map, episode)?;
-        let trajectory = plan(&program, map, start).map_err(MethodError)?;
+        let start = start_cell(&map.map, episode)?;
+        let trajectory = plan(&program, map, start)?;
         Ok(Prediction {
             trajectory,
             program: Some(program),
@@ -40,19 +39,19 @@ impl Method for Oracle {
 
 /// Compiles and plans `program` from `start` with the default pipeline (sequential planner,
 /// default cost profile); any diagnostic that stops compilation becomes the method error.
-fn plan(program: &str, map: &SemanticMap, start: Cell) -> Result<Vec<Cell>, String> {
+fn plan(program: &str, map: &PreparedMap, start: Cell) -> Result<Vec<Cell>, MethodError> {
     let opts = PipelineOptions {
         start: Some(start),
         ..PipelineOptions::default()
     };
-    match compile_and_plan(program, map, &opts) {
+    match compile_and_plan_with(program, &map.map, map.planning()?, &opts) {
         Ok(compiled) => Ok(compiled.route.trajectory),
         Err(diags) => {
             let first = diags.iter().find(|d| d.is_error()).or(diags.first());
-            Err(match first {
+            Err(MethodError(match first {
                 Some(d) => format!("gold program does not compile: {} {}", d.code, d.message),
                 None => "gold program does not compile".to_string(),
-            })
+            }))
         }
     }
 }

@@ -3,10 +3,10 @@
 //! preferences), so it bounds what hard constraints alone buy: HCS = 1 on every feasible episode,
 //! soft metrics left to chance.
 
-use super::{Method, MethodError, Prediction, start_cell};
+use super::{Method, MethodError, Prediction, PreparedMap, start_cell};
 use crate::episode::{CellRc, ConstraintKind, Episode, HardConstraint, Shape, SoftConstraint};
 use crate::suite::paths::{Leg, PassMask, chain_legs};
-use m2rc_stdlib::map::{FREE, SemanticMap};
+use m2rc_stdlib::map::FREE;
 
 pub struct Shortest;
 
@@ -15,7 +15,8 @@ impl Method for Shortest {
         "shortest"
     }
 
-    fn predict(&self, map: &SemanticMap, episode: &Episode) -> Result<Prediction, MethodError> {
+    fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
+        let map = &map.map;
         let start = start_cell(map, episode)?;
         let n = map.n();
         let free = PassMask::new(n, map.occupancy.data().iter().map(|&v| v == FREE).collect());

@@ -22,13 +22,12 @@ pub mod stats;
 pub mod text;
 
 use crate::episode::Episode;
-use crate::methods::Method;
-use crate::metrics::map::EvalMap;
+use crate::methods::{Method, PreparedMap};
 use crate::runner::write_atomic;
 use generate::{Difficulty, GeneratedEpisode, Scene, mix};
 use index::MapIndex;
 use m2rc_stdlib::import::{AssetDb, ImportOptions, import_house_document};
-use m2rc_stdlib::map::{MapDocument, SemanticMap};
+use m2rc_stdlib::map::MapDocument;
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
@@ -145,12 +144,7 @@ impl SuiteManifest {
 pub trait SceneTools: Sync {
     fn import(&self, house: &Value, map_id: &str) -> Result<MapDocument, String>;
     /// `Ok(())` keeps the episode; `Err(reason)` drops it.
-    fn validate(
-        &self,
-        map: &SemanticMap,
-        eval: &EvalMap,
-        episode: &GeneratedEpisode,
-    ) -> Result<(), String>;
+    fn validate(&self, map: &PreparedMap, episode: &GeneratedEpisode) -> Result<(), String>;
 }
 
 /// Progress callback: called once per finished scene with (scene map_id, episodes kept).
@@ -232,14 +226,13 @@ fn build_scene(
     let doc = tools
         .import(&house.json, map_id)
         .map_err(|e| SuiteError::Input(format!("{}: cannot import: {e}", house.source)))?;
-    let map = &doc.map;
     let map_file = format!("maps/{map_id}/{map_id}.json");
     let bytes = m2rc_stdlib::map::write_map_document_json(&doc);
     write_atomic(&out.join(&map_file), &bytes)
         .map_err(|e| SuiteError::io(&out.join(&map_file), e))?;
 
-    let scene = Scene::new(MapIndex::new(map), map_key.clone());
-    let eval = EvalMap::from_semantic_map(map);
+    let prepared = PreparedMap::new(doc.map);
+    let scene = Scene::new(MapIndex::new(&prepared.map), map_key.clone());
     let k = config.episodes_per_scene;
     let hard = (k as f64 * config.hard_fraction).round() as usize;
     let mut plan: Vec<Difficulty> = (0..k)
@@ -269,7 +262,7 @@ fn build_scene(
                 continue;
             };
             ep.set_id(id);
-            if tools.validate(map, &eval, &ep).is_err() {
+            if tools.validate(&prepared, &ep).is_err() {
                 continue;
             }
             entries.push(write_episode(
@@ -344,12 +337,7 @@ impl SceneTools for ProcthorTools {
         import_house_document(house, map_id, self.assets.as_ref(), &opts).map_err(|e| e.to_string())
     }
 
-    fn validate(
-        &self,
-        map: &SemanticMap,
-        eval: &EvalMap,
-        ep: &GeneratedEpisode,
-    ) -> Result<(), String> {
+    fn validate(&self, map: &PreparedMap, ep: &GeneratedEpisode) -> Result<(), String> {
         let parsed = m2rc_grammar::parse(&ep.program);
         if let Some(e) = parsed.errors.first() {
             return Err(format!("gold program does not parse: {e:?}"));
@@ -357,7 +345,7 @@ impl SceneTools for ProcthorTools {
         let episode = Episode::from_value(ep.instruction.clone(), "generated episode")
             .map_err(|e| e.to_string())?;
         for method in &self.validators {
-            let record = crate::runner::predict_and_score(method.as_ref(), map, eval, &episode, "");
+            let record = crate::runner::predict_and_score(method.as_ref(), map, &episode, "");
             let hcs = record
                 .get("metrics_summary")
                 .and_then(|s| s.get("HCS"))
