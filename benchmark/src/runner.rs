@@ -21,7 +21,7 @@ use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, Mutex};
 
 /// Name of the run manifest inside a run directory.
 pub const RUN_MANIFEST: &str = "run.json";
@@ -163,11 +163,16 @@ pub fn run(method: &dyn Method, opts: &RunOptions) -> Result<RunSummary, RunErro
     };
     check_or_write_run_manifest(&opts.out, &run_manifest)?;
 
-    let maps: BTreeMap<&str, OnceLock<Result<Arc<PreparedMap>, String>>> = manifest
+    let mut maps: BTreeMap<&str, Mutex<MapSlot>> = manifest
         .scenes
         .iter()
-        .map(|s| (s.map_id.as_str(), OnceLock::new()))
+        .map(|s| (s.map_id.as_str(), Mutex::new(MapSlot::default())))
         .collect();
+    for e in &episodes {
+        if let Some(slot) = maps.get_mut(e.map_id.as_str()) {
+            slot.get_mut().expect("map slot").remaining += 1;
+        }
+    }
     let bar = progress_bar(episodes.len() as u64, opts.progress, method.name());
     let summary = Mutex::new(RunSummary {
         episodes: episodes.len(),
@@ -204,28 +209,56 @@ enum Outcome {
     Written { method_failed: bool },
 }
 
+/// A scene's prepared map, loaded by the first episode that needs it and dropped after the last
+/// one, so a run holds only the maps being worked on (a prepared map with its distance fields is
+/// tens of megabytes).
+#[derive(Default)]
+struct MapSlot {
+    map: Option<Result<Arc<PreparedMap>, String>>,
+    /// Selected episodes of this map not finished yet.
+    remaining: usize,
+}
+
 fn run_one(
     method: &dyn Method,
     opts: &RunOptions,
     manifest: &SuiteManifest,
-    maps: &BTreeMap<&str, OnceLock<Result<Arc<PreparedMap>, String>>>,
+    maps: &BTreeMap<&str, Mutex<MapSlot>>,
+    entry: &EpisodeEntry,
+) -> Result<Outcome, RunError> {
+    let slot = maps.get(entry.map_id.as_str()).ok_or_else(|| {
+        RunError::Invalid(format!(
+            "episode {} names unknown map {}",
+            entry.file, entry.map_id
+        ))
+    })?;
+    let result = run_on_map(method, opts, manifest, slot, entry);
+    let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
+    slot.remaining = slot.remaining.saturating_sub(1);
+    if slot.remaining == 0 {
+        slot.map = None;
+    }
+    result
+}
+
+fn run_on_map(
+    method: &dyn Method,
+    opts: &RunOptions,
+    manifest: &SuiteManifest,
+    slot: &Mutex<MapSlot>,
     entry: &EpisodeEntry,
 ) -> Result<Outcome, RunError> {
     let out_path = record_path(&opts.out, &entry.map_id, &entry.instruction_id);
     if record_is_complete(&out_path) {
         return Ok(Outcome::Skipped);
     }
-    let map = maps
-        .get(entry.map_id.as_str())
-        .ok_or_else(|| {
-            RunError::Invalid(format!(
-                "episode {} names unknown map {}",
-                entry.file, entry.map_id
-            ))
-        })?
-        .get_or_init(|| load_suite_map(manifest, &opts.suite, &entry.map_id))
-        .clone()
-        .map_err(RunError::Invalid)?;
+    let map = {
+        let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
+        slot.map
+            .get_or_insert_with(|| load_suite_map(manifest, &opts.suite, &entry.map_id))
+            .clone()
+    }
+    .map_err(RunError::Invalid)?;
     let ep_path = opts.suite.join(&entry.file);
     let episode = Episode::read(&ep_path).map_err(|e| RunError::Invalid(e.to_string()))?;
     let record = predict_and_score(method, &map, &episode, &entry.map_id);
