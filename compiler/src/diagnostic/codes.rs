@@ -259,6 +259,8 @@ codes! {
         "";
     EvalUnsupported = "E0512", Error, "expression cannot be evaluated",
         "";
+    StartMoved = "E0513", Warning, "start moved to the nearest free cell",
+        "";
 
     NoStages = "E0601", Error, "route has no stage on this map",
         "";

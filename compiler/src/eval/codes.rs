@@ -25,6 +25,8 @@ pub const EMPTY_CONSTRAINT: &str = "E0510";
 pub const UNKNOWN_STAGE: &str = "E0511";
 /// An expression the evaluator cannot evaluate (an internal inconsistency with the checker).
 pub const UNSUPPORTED: &str = "E0512";
+/// The start cell is not traversable and was moved to the nearest free cell (warning).
+pub const START_MOVED: &str = "E0513";
 
 /// The route has no stage.
 pub const NO_STAGES: &str = "E0601";
@@ -78,6 +80,10 @@ pub const ALL: &[(&str, &str)] = &[
         "`during` names a stage that no `go` produced on this map",
     ),
     (UNSUPPORTED, "an expression the evaluator cannot evaluate"),
+    (
+        START_MOVED,
+        "the start is not traversable; the route starts at the nearest free cell",
+    ),
     (NO_STAGES, "the route has no stage"),
     (
         EMPTY_REFERENCE,

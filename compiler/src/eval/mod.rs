@@ -108,7 +108,7 @@ fn ground_with(
         q,
         source,
         route: opts.route.as_deref(),
-        problems: Vec::new(),
+        problems: start_moved(q, opts.start, start).into_iter().collect(),
         scopes: Vec::new(),
         start: start_place.clone(),
         here: start_place,
@@ -133,6 +133,27 @@ fn resolve_start(q: &MapQuery, start: Option<Cell>) -> Option<Cell> {
     }
     let c = q.nearest_traversable([s.row as f64, s.col as f64], None)?;
     (c.dist(s) * q.res() <= 4.0).then_some(c)
+}
+
+/// A warning when the route will not start where it was asked to (a start on a wall or on
+/// furniture is moved silently otherwise, and the route then seems to begin in the wrong place).
+fn start_moved(q: &MapQuery, asked: Option<Cell>, used: Cell) -> Option<Problem> {
+    let s = asked.or(q.map().start)?;
+    (s != used).then(|| {
+        Problem::warning(
+            codes::START_MOVED,
+            Span::new(0, 0),
+            format!(
+                "the start cell [{}, {}] is not traversable; the route starts at [{}, {}], {:.2} m away",
+                s.row,
+                s.col,
+                used.row,
+                used.col,
+                s.dist(used) * q.res()
+            ),
+        )
+        .help("give a start cell (`--start row,col`) on a free cell of the map")
+    })
 }
 
 pub(crate) struct Grounder<'q, 'm> {

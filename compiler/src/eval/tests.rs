@@ -217,4 +217,32 @@ fn missing_start_is_a_diagnostic_not_a_panic() {
         g.ir.is_some(),
         "a start on the bed snaps to the nearest free cell"
     );
+    // ... and says so, with where the route starts instead.
+    let moved: Vec<_> = g
+        .problems
+        .iter()
+        .filter(|p| p.code == codes::START_MOVED)
+        .collect();
+    assert_eq!(moved.len(), 1, "{:#?}", g.problems);
+    assert!(!moved[0].is_error());
+    let used = g.ir.as_ref().unwrap().start;
+    assert_ne!(used, Cell::new(2, 3));
+    assert!(
+        moved[0]
+            .message
+            .contains(&format!("the route starts at [{}, {}]", used.row, used.col)),
+        "{}",
+        moved[0].message
+    );
+    // A start on a free cell is used as given, without a warning.
+    let g = ground(
+        &parsed.program,
+        "",
+        &q,
+        &GroundOptions {
+            start: Some(used),
+            route: None,
+        },
+    );
+    assert!(g.problems.iter().all(|p| p.code != codes::START_MOVED));
 }
