@@ -92,6 +92,17 @@ pub fn squared_distances_into(
 /// The separable transform. `sources` and `out` are row-major `n`×`n` (`sources` shorter than that
 /// counts as false beyond its end); `convert` maps an exact squared distance to the output type and
 /// `none` fills the output when there is no source.
+/// The mask cut or padded (with non-sources) to exactly `cells` entries, copying only when short.
+fn exactly_cells(sources: &[bool], cells: usize) -> std::borrow::Cow<'_, [bool]> {
+    if sources.len() >= cells {
+        std::borrow::Cow::Borrowed(&sources[..cells])
+    } else {
+        let mut padded = sources.to_vec();
+        padded.resize(cells, false);
+        std::borrow::Cow::Owned(padded)
+    }
+}
+
 fn transform<T: Copy>(
     sources: &[bool],
     n: usize,
@@ -102,19 +113,8 @@ fn transform<T: Copy>(
 ) {
     let cells = n * n;
     let out = &mut out[..cells];
-    let padded;
-    let sources = if sources.len() >= cells {
-        &sources[..cells]
-    } else {
-        padded = sources
-            .iter()
-            .copied()
-            .chain(std::iter::repeat(false))
-            .take(cells)
-            .collect::<Vec<bool>>();
-        &padded[..]
-    };
-    let Some(cols) = columns(sources, n, &mut scratch.g) else {
+    let sources = exactly_cells(sources, cells);
+    let Some(cols) = columns(&sources, n, &mut scratch.g) else {
         out.fill(none);
         return;
     };
@@ -282,19 +282,8 @@ impl LazySquaredDistances {
     /// Starts over on another mask, keeping the memory (a planner reuses one per stage).
     pub fn reset(&mut self, sources: &[bool], n: usize) {
         let cells = n * n;
-        let padded: Vec<bool>;
-        let sources = if sources.len() >= cells {
-            &sources[..cells]
-        } else {
-            padded = sources
-                .iter()
-                .copied()
-                .chain(std::iter::repeat(false))
-                .take(cells)
-                .collect();
-            &padded[..]
-        };
-        self.cols = columns(sources, n, &mut self.g);
+        let sources = exactly_cells(sources, cells);
+        self.cols = columns(&sources, n, &mut self.g);
         let w = self.cols.map_or(0, |c| c.w);
         let len = if self.cols.is_some() { cells } else { 0 };
         self.table.truncate(len);
