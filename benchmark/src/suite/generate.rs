@@ -728,14 +728,13 @@ impl<'a> Scene<'a> {
         let ctx = self.plan_ctx.as_ref()?;
         let ix = &self.ix;
         let target = ix.object(leg.stage.target);
-        let room = Area::Mask(ctx.room_mask(ix.map, leg.stage.room));
         let soft = near
             .map(|o| SoftTerm {
                 kind: SoftKind::Near {
                     reference: Area::Cells(ix.object(o).footprint.clone()),
                 },
                 weight: None,
-                scope: Some(room.clone()),
+                scope: Some(Area::Mask(ctx.room_mask(ix.map, leg.stage.room))),
                 origin: Origin::Unknown,
             })
             .into_iter()
