@@ -94,6 +94,7 @@ fn map() -> SemanticMap {
         rooms: vec![room(1, "living_room"), room(2, "bedroom")],
         objects: vec![bed, rug, door],
         start: None,
+        open_boundaries: Vec::new(),
     }
 }
 

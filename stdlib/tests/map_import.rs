@@ -1,7 +1,8 @@
 //! ProcTHOR import over the real houses in `../shared/procthor/`: room counts, every object and
 //! child present with its parent, and byte-identical write -> read -> write.
 
-use m2rc_stdlib::import::{AssetDb, ImportOptions, import_house_document};
+use m2rc_stdlib::import::check::check_house as validate;
+use m2rc_stdlib::import::{AssetDb, ImportOptions, import_house_document, import_warnings};
 use m2rc_stdlib::load::{count_documents, read_document};
 use m2rc_stdlib::map::{MapDocument, Relation, read_map_document_json, write_map_document_json};
 use serde_json::Value;
@@ -92,6 +93,29 @@ fn check_house(house: &Value, label: &str) -> MapDocument {
             r.id
         );
     }
+    // The map matches the house: holes where ProcTHOR cuts them and clear of walls, every
+    // connected room reachable from the start, no leak between rooms the house keeps apart.
+    let report = validate(house, label, map).unwrap();
+    assert_eq!(
+        report.holes,
+        doors + windows,
+        "{label}: every hole is checked"
+    );
+    assert!(report.is_clean(), "{label}: {:#?}", report.warnings(map));
+    assert!(
+        import_warnings(&doc).is_empty(),
+        "{label}: {:?}",
+        import_warnings(&doc)
+    );
+    // Open walls are open boundaries, each joining two rooms that a passage connects.
+    let empty_walls = house["walls"]
+        .as_array()
+        .map_or(0, |w| w.iter().filter(|w| w["empty"] == true).count());
+    assert_eq!(
+        empty_walls > 0,
+        !map.open_boundaries.is_empty(),
+        "{label}: open boundaries"
+    );
     doc
 }
 

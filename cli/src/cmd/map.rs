@@ -4,11 +4,15 @@
 use crate::io::write_atomic;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand, ValueEnum};
+use m2rc_stdlib::import::bounds::parse_memory;
+use m2rc_stdlib::import::check::rooms_reachable_from;
 use m2rc_stdlib::import::{
     AssetDb, DEFAULT_PADDING_M, DEFAULT_RESOLUTION_M, DEFAULT_ROBOT_RADIUS_M, ImportOptions,
+    import_warnings,
 };
 use m2rc_stdlib::load::{LoadOptions, SourceKind, load_map_with};
-use m2rc_stdlib::map::{MapDocument, SemanticMap, write_map_document_json};
+use m2rc_stdlib::map::{MapDocument, SemanticMap, write_map_document_to};
+use m2rc_stdlib::query::open_area;
 use m2rc_stdlib::render::{RenderOptions, render_map};
 use serde_json::json;
 use std::path::PathBuf;
@@ -18,10 +22,13 @@ use std::process::ExitCode;
 pub enum MapCommand {
     /// Import a ProcTHOR house, a Map2Route map or `demo` and write it as a Map2Route map.
     Import(ImportArgs),
-    /// Summarise a map: grid, rooms with areas, object categories, doorway adjacency.
+    /// Summarise a map: grid, rooms with areas, object categories, adjacency (door or open),
+    /// rooms unreachable from the start.
     Info(InfoArgs),
     /// Draw a map as PNG and/or SVG.
     Render(RenderArgs),
+    /// Check maps against their ProcTHOR houses: holes, reachability from the start, leaks.
+    Check(super::map_check::CheckArgs),
 }
 
 /// Where the map comes from and how a house is turned into a grid.
@@ -44,6 +51,9 @@ pub struct SourceArgs {
     /// Margin around the floor polygons in metres (houses only).
     #[arg(long, default_value_t = DEFAULT_PADDING_M)]
     pub padding: f64,
+    /// Refuse a house whose grid would need more memory than this (e.g. 8G, 512M; houses only).
+    #[arg(long, default_value = "4G", value_parser = parse_memory)]
+    pub max_memory: u64,
 }
 
 #[derive(Args)]
@@ -89,6 +99,28 @@ pub fn run(command: MapCommand) -> Result<ExitCode> {
         MapCommand::Import(a) => import(a),
         MapCommand::Info(a) => info(a),
         MapCommand::Render(a) => render(a),
+        MapCommand::Check(a) => {
+            let db = match &a.source.assets {
+                Some(p) => Some(AssetDb::load(p)?),
+                None => None,
+            };
+            let opts = load_options(&a.source, db.as_ref());
+            super::map_check::check(a, &opts)
+        }
+    }
+}
+
+fn load_options<'a>(src: &SourceArgs, db: Option<&'a AssetDb>) -> LoadOptions<'a> {
+    LoadOptions {
+        index: src.index,
+        assets: db,
+        import: ImportOptions {
+            resolution: src.resolution,
+            padding_m: src.padding,
+            robot_radius_m: src.robot_radius,
+            map_id: None,
+            max_memory_bytes: src.max_memory,
+        },
     }
 }
 
@@ -97,23 +129,17 @@ fn load(src: &SourceArgs) -> Result<(MapDocument, SourceKind)> {
         Some(p) => Some(AssetDb::load(p)?),
         None => None,
     };
-    let opts = LoadOptions {
-        index: src.index,
-        assets: db.as_ref(),
-        import: ImportOptions {
-            resolution: src.resolution,
-            padding_m: src.padding,
-            robot_radius_m: src.robot_radius,
-            map_id: None,
-        },
-    };
-    Ok(load_map_with(&src.map, &opts)?)
+    let opts = load_options(src, db.as_ref());
+    let loaded = load_map_with(&src.map, &opts)?;
+    for w in import_warnings(&loaded.0) {
+        eprintln!("warning: {}: {w}", src.map);
+    }
+    Ok(loaded)
 }
 
 fn import(args: ImportArgs) -> Result<ExitCode> {
     let (doc, kind) = load(&args.source)?;
-    let bytes = write_map_document_json(&doc);
-    write_atomic(&args.output, &bytes)?;
+    write_streamed(&args.output, &doc)?;
     eprintln!(
         "wrote {} ({} x {} cells, {} rooms, {} objects, from {})",
         args.output.display(),
@@ -124,6 +150,35 @@ fn import(args: ImportArgs) -> Result<ExitCode> {
         kind_name(kind)
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// Writes the map JSON straight into a temporary file beside `path`, then renames it into place:
+/// atomic like every other write, and the text of a fine-resolution map (gigabytes) is never
+/// held in memory.
+fn write_streamed(path: &std::path::Path, doc: &MapDocument) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("cannot create directory {}", dir.display()))?;
+    let name = path
+        .file_name()
+        .with_context(|| format!("{} is not a file path", path.display()))?
+        .to_string_lossy();
+    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+    let result = (|| -> Result<()> {
+        let f = std::fs::File::create(&tmp)
+            .with_context(|| format!("cannot create {}", tmp.display()))?;
+        write_map_document_to(doc, &f)
+            .with_context(|| format!("cannot write {}", tmp.display()))?;
+        f.sync_all().ok();
+        std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
 }
 
 fn kind_name(kind: SourceKind) -> &'static str {
@@ -156,8 +211,34 @@ fn free_cells(map: &SemanticMap) -> usize {
         .count()
 }
 
+/// Rooms no traversable path from the start reaches, by id (empty when the map has no start).
+fn unreachable_rooms(map: &SemanticMap) -> Vec<u32> {
+    let Some(start) = map.start else {
+        return Vec::new();
+    };
+    let reached = rooms_reachable_from(map, start);
+    map.rooms
+        .iter()
+        .map(|r| r.id)
+        .filter(|id| !reached.contains(id))
+        .collect()
+}
+
+/// Open-plan areas of more than one room, each sorted, in order of their first room.
+fn open_areas(map: &SemanticMap) -> Vec<Vec<u32>> {
+    let mut out: Vec<Vec<u32>> = Vec::new();
+    for r in &map.rooms {
+        let area = open_area(map, r.id);
+        if area.len() > 1 && !out.contains(&area) {
+            out.push(area);
+        }
+    }
+    out
+}
+
 fn info_json(map: &SemanticMap) -> serde_json::Value {
     let adjacency = map.room_adjacency();
+    let links = map.room_links();
     json!({
         "map_id": map.map_id,
         "grid_size": map.n(),
@@ -173,6 +254,10 @@ fn info_json(map: &SemanticMap) -> serde_json::Value {
         "object_count": map.objects.len(),
         "categories": map.category_counts(),
         "adjacency": adjacency.iter().map(|(a, b)| [a, b]).collect::<Vec<_>>(),
+        "links": links.iter().map(|(a, b, k)| json!({"rooms": [a, b], "kind": k.name()})).collect::<Vec<_>>(),
+        "open_areas": open_areas(map),
+        "reachable_from_start": map.start.map(|_| map.rooms.len() - unreachable_rooms(map).len()),
+        "unreachable_from_start": unreachable_rooms(map),
     })
 }
 
@@ -217,14 +302,31 @@ fn info_text(map: &SemanticMap) -> String {
         let line: Vec<String> = chunk.iter().map(|(c, k)| format!("{c} {k}")).collect();
         let _ = writeln!(s, "  {}", line.join(", "));
     }
-    let adj = map.room_adjacency();
-    let _ = writeln!(s, "doorway adjacency {}", adj.len());
-    for (a, b) in adj {
-        let name = |id: u32| {
-            map.room(id)
-                .map_or_else(|| id.to_string(), |r| r.name.clone())
-        };
-        let _ = writeln!(s, "  {} - {}", name(a), name(b));
+    let name = |id: u32| {
+        map.room(id)
+            .map_or_else(|| id.to_string(), |r| r.name.clone())
+    };
+    let links = map.room_links();
+    let _ = writeln!(s, "adjacency {}", links.len());
+    for (a, b, kind) in links {
+        let _ = writeln!(s, "  {} - {}  {}", name(a), name(b), kind.name());
+    }
+    for area in open_areas(map) {
+        let names: Vec<String> = area.iter().map(|&r| name(r)).collect();
+        let _ = writeln!(s, "open area {}", names.join(" + "));
+    }
+    if map.start.is_some() {
+        let unreachable = unreachable_rooms(map);
+        let _ = writeln!(
+            s,
+            "reachable from the start: {} of {} rooms",
+            map.rooms.len() - unreachable.len(),
+            map.rooms.len()
+        );
+        if !unreachable.is_empty() {
+            let names: Vec<String> = unreachable.iter().map(|&r| name(r)).collect();
+            let _ = writeln!(s, "  unreachable: {}", names.join(", "));
+        }
     }
     s
 }
@@ -264,6 +366,14 @@ mod tests {
         assert_eq!(v["categories"]["window"], json!(6));
         let text = info_text(&map);
         assert!(text.contains("rooms 7\n"), "{text}");
-        assert!(text.contains("  living_room_1 - kitchen_1\n"), "{text}");
+        assert!(
+            text.contains("  living_room_1 - kitchen_1  door\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("reachable from the start: 7 of 7 rooms\n"),
+            "{text}"
+        );
+        assert_eq!(v["unreachable_from_start"], json!([]));
     }
 }

@@ -7,4 +7,5 @@ pub mod eval;
 pub mod fmt;
 pub mod lsp;
 pub mod map;
+pub mod map_check;
 pub mod suite;

@@ -18,6 +18,11 @@ pub struct HouseWall {
     pub a: [f64; 2],
     pub b: [f64; 2],
     pub height: f64,
+    /// `"empty": true`: ProcTHOR left this face out (an open-plan boundary between two rooms).
+    pub empty: bool,
+    /// The room this face belongs to (`roomId`, else read off the id `wall|<n>|...`); `None` for
+    /// exterior faces.
+    pub room_id: Option<String>,
 }
 
 /// A door or window: a hole in a wall.
@@ -53,7 +58,14 @@ pub struct House {
     /// Agent start `(x, z)` and yaw in degrees.
     pub agent: Option<([f64; 2], f64)>,
     pub room_spec: Option<String>,
+    /// What the house does that the importer reads in a documented way but a user should hear
+    /// about: `(field path, message)`.
+    pub warnings: Vec<(String, String)>,
 }
+
+/// Largest coordinate magnitude accepted, metres. Real houses span tens of metres; a value like
+/// 1e20 is a broken file, and would otherwise overflow the grid-size arithmetic.
+pub const MAX_COORDINATE_M: f64 = 100_000.0;
 
 /// Whether a JSON document looks like a ProcTHOR house rather than a Map2Route map.
 pub fn looks_like_house(v: &Value) -> bool {
@@ -117,11 +129,22 @@ fn num_or(
 
 fn point(v: &Value, path: &str, ctx: &ErrCtx) -> Result<[f64; 3], MapError> {
     let o = obj(v, path, ctx)?;
-    Ok([
+    let p = [
         num(o, "x", path, ctx)?,
         num_or(o, "y", 0.0, path, ctx)?,
         num(o, "z", path, ctx)?,
-    ])
+    ];
+    for (k, x) in ["x", "y", "z"].iter().zip(p) {
+        if x.abs() > MAX_COORDINATE_M {
+            return Err(ctx.err(
+                format!("{path}.{k}"),
+                format!(
+                    "{x:e} m is beyond the {MAX_COORDINATE_M:.0} m any coordinate of a house may reach"
+                ),
+            ));
+        }
+    }
+    Ok(p)
 }
 
 fn list<'a>(
@@ -188,6 +211,7 @@ fn parse_object(
     path: &str,
     ctx: &ErrCtx,
     depth: usize,
+    warnings: &mut Vec<(String, String)>,
 ) -> Result<HouseObject, MapError> {
     let o = obj(v, path, ctx)?;
     if depth > 8 {
@@ -198,15 +222,26 @@ fn parse_object(
         &format!("{path}.position"),
         ctx,
     )?;
+    let rot_path = format!("{path}.rotation");
     let rotation_y = match o.get("rotation") {
-        None | Some(Value::Null) => 0.0,
-        Some(r) => num_or(
-            obj(r, &format!("{path}.rotation"), ctx)?,
-            "y",
-            0.0,
-            &format!("{path}.rotation"),
-            ctx,
-        )?,
+        None => 0.0,
+        Some(Value::Null) => {
+            warnings.push((
+                rot_path,
+                "is null; the object is placed unrotated (0°)".into(),
+            ));
+            0.0
+        }
+        Some(r) => {
+            let ro = obj(r, &rot_path, ctx)?;
+            if matches!(ro.get("y"), None | Some(Value::Null)) {
+                warnings.push((
+                    format!("{rot_path}.y"),
+                    "is missing or null; the object is placed unrotated (0°)".into(),
+                ));
+            }
+            num_or(ro, "y", 0.0, &rot_path, ctx)?
+        }
     };
     let object_type = match o.get("objectType") {
         None | Some(Value::Null) => None,
@@ -220,6 +255,7 @@ fn parse_object(
                 &format!("{path}.children[{i}]"),
                 ctx,
                 depth + 1,
+                warnings,
             )?);
         }
     }
@@ -263,6 +299,12 @@ pub fn parse_house(v: &Value, ctx: &ErrCtx) -> Result<House, MapError> {
             .enumerate()
             .map(|(k, p)| point(p, &format!("{poly_path}[{k}]"), ctx).map(|q| [q[0], q[2]]))
             .collect::<Result<Vec<_>, _>>()?;
+        if super::raster::polygon_area(&polygon) < 1e-6 {
+            return Err(ctx.err(
+                poly_path,
+                "encloses no floor (zero area): its points are repeated or on one line",
+            ));
+        }
         rooms.push(HouseRoom {
             id: string(o, "id", &path, ctx)?,
             room_type: string(o, "roomType", &path, ctx)?,
@@ -303,7 +345,31 @@ pub fn parse_house(v: &Value, ctx: &ErrCtx) -> Result<House, MapError> {
             ));
         };
         let height = pts.iter().map(|p| p[1]).fold(0.0, f64::max);
-        walls.push(HouseWall { id, a, b, height });
+        let empty = match o.get("empty") {
+            None | Some(Value::Null) => false,
+            Some(Value::Bool(e)) => *e,
+            Some(v) => {
+                return Err(ctx.err(
+                    format!("{path}.empty"),
+                    format!("expected true or false, found {}", short(v)),
+                ));
+            }
+        };
+        // Exterior faces carry the `roomId` of the room inside; they belong to no room pair.
+        let part = id.split('|').nth(1).unwrap_or("");
+        let room_id = match o.get("roomId") {
+            _ if part == "exterior" => None,
+            Some(Value::String(r)) => Some(r.clone()),
+            _ => (!part.is_empty()).then(|| format!("room|{part}")),
+        };
+        walls.push(HouseWall {
+            id,
+            a,
+            b,
+            height,
+            empty,
+            room_id,
+        });
     }
 
     let doors = list(root, "doors", ctx)?
@@ -316,10 +382,11 @@ pub fn parse_house(v: &Value, ctx: &ErrCtx) -> Result<House, MapError> {
         .enumerate()
         .map(|(i, d)| parse_hole(d, &format!("windows[{i}]"), ctx))
         .collect::<Result<Vec<_>, _>>()?;
+    let mut warnings = Vec::new();
     let objects = list(root, "objects", ctx)?
         .iter()
         .enumerate()
-        .map(|(i, o)| parse_object(o, &format!("objects[{i}]"), ctx, 0))
+        .map(|(i, o)| parse_object(o, &format!("objects[{i}]"), ctx, 0, &mut warnings))
         .collect::<Result<Vec<_>, _>>()?;
 
     let mut agent = None;
@@ -332,9 +399,22 @@ pub fn parse_house(v: &Value, ctx: &ErrCtx) -> Result<House, MapError> {
                 "metadata.agent.position",
                 ctx,
             )?;
-            let yaw = match ao.get("rotation").and_then(Value::as_object) {
-                Some(r) => num_or(r, "y", 0.0, "metadata.agent.rotation", ctx)?,
+            let yaw = match ao.get("rotation") {
                 None => 0.0,
+                Some(Value::Null) => {
+                    warnings.push((
+                        "metadata.agent.rotation".into(),
+                        "is null; the start faces yaw 0°".into(),
+                    ));
+                    0.0
+                }
+                Some(r) => num_or(
+                    obj(r, "metadata.agent.rotation", ctx)?,
+                    "y",
+                    0.0,
+                    "metadata.agent.rotation",
+                    ctx,
+                )?,
             };
             agent = Some(([p[0], p[2]], yaw));
         }
@@ -351,5 +431,6 @@ pub fn parse_house(v: &Value, ctx: &ErrCtx) -> Result<House, MapError> {
         objects,
         agent,
         room_spec,
+        warnings,
     })
 }

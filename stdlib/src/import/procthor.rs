@@ -18,16 +18,21 @@
 //! * 1 m padding around the floor polygons, then padded to a square like the reference.
 
 use super::assets::AssetDb;
-use super::house::{House, HouseObject, parse_house, wall_segment_from_id};
+use super::bounds::{DEFAULT_MAX_IMPORT_MEMORY, GridPlan, plan_grid};
+use super::check::check_map;
+use super::house::{House, HouseObject, parse_house};
 use super::naming::{category_snake, object_type_from_asset_id};
+use super::placement::{in_house, placement_warnings};
 use super::raster::{Raster, box_corners, polygon_area};
 use super::sizes::{builtin_size, has_builtin_size};
-use crate::field::squared_distance_field;
+use super::walls::collect_walls;
+use crate::field::{NO_SOURCE, squared_distances};
 use crate::grid::{Cell, Grid};
 use crate::map::error::{ErrCtx, MapError};
-use crate::map::format::{MAX_GRID_SIZE, centroid, dominant_room};
+use crate::map::format::{centroid, dominant_room};
 use crate::map::model::{
-    FREE, GridFrame, MapDocument, MapExtra, OBSTACLE, Object, Parent, Relation, Room, SemanticMap,
+    FREE, GridFrame, MapDocument, MapExtra, OBSTACLE, Object, OpenBoundary, Parent, Relation, Room,
+    SemanticMap,
 };
 use serde_json::{Map, Value, json};
 use std::collections::{BTreeMap, HashMap};
@@ -48,6 +53,9 @@ pub struct ImportOptions {
     pub robot_radius_m: f64,
     /// Map id to record; the caller derives it from the file name when `None`.
     pub map_id: Option<String>,
+    /// Refuse a house whose grid would need more memory than this, bytes (see
+    /// [`super::bounds::IMPORT_BYTES_PER_CELL`]).
+    pub max_memory_bytes: u64,
 }
 
 impl Default for ImportOptions {
@@ -57,6 +65,7 @@ impl Default for ImportOptions {
             padding_m: DEFAULT_PADDING_M,
             robot_radius_m: DEFAULT_ROBOT_RADIUS_M,
             map_id: None,
+            max_memory_bytes: DEFAULT_MAX_IMPORT_MEMORY,
         }
     }
 }
@@ -91,10 +100,6 @@ fn priority(category: &str) -> u8 {
 
 fn r4(x: f64) -> f64 {
     (x * 10_000.0).round() / 10_000.0
-}
-
-fn r6(x: f64) -> f64 {
-    (x * 1_000_000.0).round() / 1_000_000.0
 }
 
 /// An instance under construction.
@@ -212,67 +217,6 @@ fn check_options(opts: &ImportOptions, ctx: &ErrCtx) -> Result<(), MapError> {
     Ok(())
 }
 
-fn seg_key(a: [f64; 2], b: [f64; 2]) -> [i64; 4] {
-    let q = |v: f64| (v * 100.0).round() as i64;
-    let (p, r) = ([q(a[0]), q(a[1])], [q(b[0]), q(b[1])]);
-    if p <= r {
-        [p[0], p[1], r[0], r[1]]
-    } else {
-        [r[0], r[1], p[0], p[1]]
-    }
-}
-
-struct Wall {
-    ids: Vec<String>,
-    a: [f64; 2],
-    b: [f64; 2],
-    height: f64,
-}
-
-fn collect_walls(house: &House) -> Vec<Wall> {
-    let mut walls: Vec<Wall> = Vec::new();
-    let mut index: HashMap<[i64; 4], usize> = HashMap::new();
-    let mut add = |id: String, a: [f64; 2], b: [f64; 2], height: f64| {
-        let key = seg_key(a, b);
-        if let Some(&i) = index.get(&key) {
-            walls[i].ids.push(id);
-            walls[i].height = walls[i].height.max(height);
-        } else {
-            index.insert(key, walls.len());
-            walls.push(Wall {
-                ids: vec![id],
-                a,
-                b,
-                height,
-            });
-        }
-    };
-    if house.walls.is_empty() {
-        for (i, room) in house.rooms.iter().enumerate() {
-            let p = &room.polygon;
-            for k in 0..p.len() {
-                let (a, b) = (p[k], p[(k + 1) % p.len()]);
-                if a != b {
-                    let id = format!(
-                        "wall|{}|{:.2}|{:.2}|{:.2}|{:.2}",
-                        i + 1,
-                        a[0],
-                        a[1],
-                        b[0],
-                        b[1]
-                    );
-                    add(id, a, b, 2.5);
-                }
-            }
-        }
-    } else {
-        for w in &house.walls {
-            add(w.id.clone(), w.a, w.b, w.height);
-        }
-    }
-    walls
-}
-
 fn build(
     house: &House,
     ctx: &ErrCtx,
@@ -281,38 +225,23 @@ fn build(
     file: &str,
 ) -> Result<MapDocument, MapError> {
     let res = opts.resolution;
-    let (mut x0, mut x1, mut z0, mut z1) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    );
-    for r in &house.rooms {
-        for p in &r.polygon {
-            x0 = x0.min(p[0]);
-            x1 = x1.max(p[0]);
-            z0 = z0.min(p[1]);
-            z1 = z1.max(p[1]);
-        }
-    }
-    let (x_min, x_max) = (r6(x0 - opts.padding_m), r6(x1 + opts.padding_m));
-    let (z_min, z_max) = (r6(z0 - opts.padding_m), r6(z1 + opts.padding_m));
-    let w = ((x_max - x_min) / res - 1e-9).ceil() as u64 + 1;
-    let h = ((z_max - z_min) / res - 1e-9).ceil() as u64 + 1;
-    let n64 = w.max(h);
-    if n64 > MAX_GRID_SIZE {
-        return Err(ctx.err(
-            "rooms",
-            format!("the house spans {:.1} x {:.1} m, more than {MAX_GRID_SIZE} cells at {res} m per cell", x1 - x0, z1 - z0),
-        ));
-    }
-    let n = n64 as usize;
+    let GridPlan {
+        x_min,
+        x_max,
+        z_min,
+        z_max,
+        h,
+        w,
+        n,
+    } = plan_grid(house, opts, ctx)?;
     let ras = Raster {
         x_min,
         z_min,
         res,
         n,
     };
+
+    let mut warnings = house.warnings.clone();
 
     // Rooms.
     let mut room_layer = Grid::new(n, 0u32);
@@ -349,6 +278,17 @@ fn build(
     for &v in room_layer.data() {
         room_cells[v as usize] += 1;
     }
+    for (i, room) in rooms.iter().enumerate() {
+        if room_cells[room.id as usize] == 0 {
+            warnings.push((
+                format!("rooms[{i}]"),
+                format!(
+                    "{} ({:.3} m²) covers no cell at {res} m per cell; it has no floor in the map",
+                    house.rooms[i].id, room.area_m2
+                ),
+            ));
+        }
+    }
     for room in &mut rooms {
         let grid_area = r4(room_cells[room.id as usize] as f64 * res * res);
         room.attributes.push(format!(
@@ -361,50 +301,59 @@ fn build(
         ));
     }
 
-    // Walls, door holes, windows.
+    // Walls, door holes, windows. Open (`empty`) walls are not built: they become open
+    // boundaries between their two rooms.
     let half_width = (res * 0.5).max(0.05);
-    let walls = collect_walls(house);
+    let wall_set = collect_walls(house, &mut warnings);
+    let walls = &wall_set.walls;
     let mut wall_mask = Grid::new(n, false);
     let mut wall_cells: Vec<Vec<Cell>> = Vec::with_capacity(walls.len());
-    for wall in &walls {
+    let mut open: BTreeMap<(u32, u32), Vec<Cell>> = BTreeMap::new();
+    for wall in walls {
         let cells: Vec<Cell> = ras
             .segment_cells(wall.a, wall.b, half_width)
             .into_iter()
             .map(|(c, _)| c)
             .collect();
+        if wall.open {
+            let ids: Vec<u32> = wall
+                .rooms
+                .iter()
+                .filter_map(|r| room_ids.get(r.as_str()).copied())
+                .collect();
+            if let [p, q] = ids[..] {
+                open.entry((p.min(q), p.max(q))).or_default().extend(cells);
+            } else {
+                warnings.push((
+                    format!("walls ({})", wall.ids.join(", ")),
+                    "is empty (open) but does not lie between two rooms of the house; it is \
+                     left out"
+                        .into(),
+                ));
+            }
+            wall_cells.push(Vec::new());
+            continue;
+        }
         for &c in &cells {
             wall_mask.set(c, true);
         }
         wall_cells.push(cells);
     }
-    let wall_by_id: HashMap<&str, &Wall> = walls
-        .iter()
-        .flat_map(|w| w.ids.iter().map(move |id| (id.as_str(), w)))
+    let open_boundaries: Vec<OpenBoundary> = open
+        .into_iter()
+        .map(|(rooms, mut cells)| {
+            cells.sort_unstable();
+            cells.dedup();
+            OpenBoundary { rooms, cells }
+        })
         .collect();
-    let hole_cells = |wall0: &str, along: [f64; 2], path: &str| -> Result<Vec<Cell>, MapError> {
-        let (a, b) = match wall_by_id.get(wall0) {
-            Some(w) => (w.a, w.b),
-            None => wall_segment_from_id(wall0).ok_or_else(|| {
-                ctx.err(
-                    format!("{path}.wall0"),
-                    format!("names no wall of the house: {wall0:?}"),
-                )
-            })?,
-        };
-        Ok(ras
-            .segment_cells(a, b, half_width)
-            .into_iter()
-            .filter(|&(_, t)| t >= along[0] - 1e-9 && t <= along[1] + 1e-9)
-            .map(|(c, _)| c)
-            .collect())
-    };
     let resolver = Resolver { assets, ctx };
     let mut protos: Vec<Proto> = Vec::new();
     let mut holes: Vec<Cell> = Vec::new();
     let mut door_protos = Vec::new();
     for (i, d) in house.doors.iter().enumerate() {
         let path = format!("doors[{i}]");
-        let cells = hole_cells(&d.wall0, d.along, &path)?;
+        let cells = wall_set.hole_cells(d, &ras, half_width, &path, ctx, &mut warnings)?;
         holes.extend(&cells);
         let (ty, _) = resolver.resolve(&d.asset_id, None, &path)?;
         let connects = if d.room0 == d.room1 {
@@ -431,6 +380,9 @@ fn build(
         wall_mask.set(c, false);
     }
     for (wall, cells) in walls.iter().zip(&mut wall_cells) {
+        if wall.open {
+            continue;
+        }
         cells.retain(|&c| wall_mask.get(c) == Some(&true));
         protos.push(Proto {
             category: "wall".into(),
@@ -454,7 +406,7 @@ fn build(
     protos.extend(door_protos);
     for (i, win) in house.windows.iter().enumerate() {
         let path = format!("windows[{i}]");
-        let cells = hole_cells(&win.wall0, win.along, &path)?;
+        let cells = wall_set.hole_cells(win, &ras, half_width, &path, ctx, &mut warnings)?;
         let (ty, _) = resolver.resolve(&win.asset_id, None, &path)?;
         protos.push(Proto {
             category: category_snake(&ty),
@@ -568,19 +520,25 @@ fn build(
         }
     }
     let occupancy = if opts.robot_radius_m > 0.0 {
-        let d2 = squared_distance_field(&blocked);
+        // Squared distances as exact integers (4 bytes a cell instead of 8).
+        let d2 = squared_distances(blocked.data(), n);
         let r_cells = opts.robot_radius_m / res;
         let limit = r_cells * r_cells - 1e-9;
-        d2.map(|&d| {
-            if d >= limit && d.is_finite() {
-                FREE
-            } else {
-                OBSTACLE
-            }
-        })
+        let occ: Vec<u8> = d2
+            .iter()
+            .map(|&d| {
+                if d != NO_SOURCE && d as f64 >= limit {
+                    FREE
+                } else {
+                    OBSTACLE
+                }
+            })
+            .collect();
+        Grid::from_vec(n, occ).expect("one value per cell")
     } else {
         blocked.map(|&b| if b { OBSTACLE } else { FREE })
     };
+    drop(blocked);
 
     // Object layer: per cell the highest (priority, footprint area, -height) wins, ties to the
     // earlier instance.
@@ -662,7 +620,29 @@ fn build(
         let name = file.rsplit(['/', '\\']).next().unwrap_or(file);
         name.split('.').next().unwrap_or("house").to_string()
     });
-    let start = house.agent.and_then(|(p, _)| ras.cell_of(p[0], p[1]));
+    placement_warnings(house, &mut warnings);
+    let start = house.agent.and_then(|(p, _)| {
+        let cell = ras.cell_of(p[0], p[1]);
+        if cell.is_none() {
+            warnings.push((
+                "metadata.agent.position".into(),
+                format!(
+                    "({:.2}, {:.2}) is outside the map's grid; the map has no start",
+                    p[0], p[1]
+                ),
+            ));
+        } else if !in_house(house, p) {
+            warnings.push((
+                "metadata.agent.position".into(),
+                format!(
+                    "({:.2}, {:.2}) is outside every room's floor; planning starts from the \
+                     nearest free cell",
+                    p[0], p[1]
+                ),
+            ));
+        }
+        cell
+    });
     let mut metadata = Map::new();
     metadata.insert("map_id".into(), json!(map_id));
     metadata.insert("name".into(), json!(format!("ProcTHOR {map_id}")));
@@ -696,6 +676,7 @@ fn build(
     if let Some((_, yaw)) = house.agent {
         metadata.insert("start_yaw_deg".into(), json!(r4(yaw)));
     }
+
     let frame = GridFrame {
         resolution: res,
         x_min,
@@ -715,6 +696,36 @@ fn build(
         rooms,
         objects,
         start,
+        open_boundaries,
     };
-    Ok(MapDocument { map, extra })
+    let mut doc = MapDocument { map, extra };
+    warnings.extend(check_map(house, &doc.map).warnings(&doc.map));
+    if !warnings.is_empty() {
+        let list: Vec<String> = warnings
+            .iter()
+            .map(|(path, msg)| format!("{path}: {msg}"))
+            .collect();
+        if let Some(Value::Object(imp)) = doc.extra.metadata.get_mut("m2rc_import") {
+            imp.insert("warnings".into(), json!(list));
+        }
+    }
+    Ok(doc)
+}
+
+/// The warnings an import recorded (`metadata.m2rc_import.warnings`): inputs read in a documented
+/// way that a user should hear about, and failed checks against the house. Empty for a clean
+/// house or a map that is not an import.
+pub fn import_warnings(doc: &MapDocument) -> Vec<String> {
+    doc.extra
+        .metadata
+        .get("m2rc_import")
+        .and_then(|v| v.get("warnings"))
+        .and_then(Value::as_array)
+        .map(|a| {
+            a.iter()
+                .filter_map(Value::as_str)
+                .map(str::to_string)
+                .collect()
+        })
+        .unwrap_or_default()
 }

@@ -9,19 +9,18 @@
 //! write -> read -> write byte-identical.
 
 use super::error::{ErrCtx, MapError};
-use super::legend::build_legends;
 use super::model::{
     FREE, GridFrame, MapDocument, MapExtra, OBSTACLE, Object, Parent, Relation, Room, SemanticMap,
 };
-use super::pyjson::to_python_json;
+use super::open::read_open_boundaries;
 use crate::grid::{Cell, Grid};
-use serde_json::{Map, Value, json};
+use serde_json::{Map, Value};
 use std::collections::BTreeMap;
 
 /// Largest grid side the reader accepts; a 20,000² map would need gigabytes in memory.
 pub const MAX_GRID_SIZE: u64 = 16384;
 
-const TOP_KEYS: [&str; 8] = [
+const TOP_KEYS: [&str; 9] = [
     "grid_size",
     "layer_legends",
     "metadata",
@@ -30,6 +29,7 @@ const TOP_KEYS: [&str; 8] = [
     "object_instances",
     "object_footprints",
     "cell_object_ids",
+    "open_boundaries",
 ];
 const ROOM_KEYS: [&str; 5] = ["id", "category", "name", "attributes", "area_m2"];
 const OBJECT_KEYS: [&str; 11] = [
@@ -63,28 +63,7 @@ pub fn read_map_value(v: &Value, file: &str) -> Result<SemanticMap, MapError> {
     read_map_document(v, file).map(|d| d.map)
 }
 
-/// Writes a map as Map2Route JSON bytes (no trailing newline, like Python's `json.dump`), with
-/// metadata and legends generated from the model.
-pub fn write_map_json(map: &SemanticMap) -> Vec<u8> {
-    to_python_json(&write_map_value(map))
-}
-
-/// Writes a map document as Map2Route JSON bytes, carrying its extra content through.
-pub fn write_map_document_json(doc: &MapDocument) -> Vec<u8> {
-    to_python_json(&write_map_document(doc))
-}
-
-/// Builds the JSON of a map without extra content.
-pub fn write_map_value(map: &SemanticMap) -> Value {
-    write_with(map, &MapExtra::default())
-}
-
-/// Builds the JSON of a map document (key order and content as written to disk).
-pub fn write_map_document(doc: &MapDocument) -> Value {
-    write_with(&doc.map, &doc.extra)
-}
-
-fn get<'a>(
+pub(super) fn get<'a>(
     obj: &'a Map<String, Value>,
     key: &str,
     path: &str,
@@ -94,7 +73,7 @@ fn get<'a>(
         .ok_or_else(|| ctx.err(join(path, key), "missing required key"))
 }
 
-fn join(path: &str, key: &str) -> String {
+pub(super) fn join(path: &str, key: &str) -> String {
     if path.is_empty() {
         key.to_string()
     } else {
@@ -102,17 +81,25 @@ fn join(path: &str, key: &str) -> String {
     }
 }
 
-fn as_obj<'a>(v: &'a Value, path: &str, ctx: &ErrCtx) -> Result<&'a Map<String, Value>, MapError> {
+pub(super) fn as_obj<'a>(
+    v: &'a Value,
+    path: &str,
+    ctx: &ErrCtx,
+) -> Result<&'a Map<String, Value>, MapError> {
     v.as_object()
         .ok_or_else(|| ctx.err(path, format!("expected an object, found {}", kind(v))))
 }
 
-fn as_arr<'a>(v: &'a Value, path: &str, ctx: &ErrCtx) -> Result<&'a Vec<Value>, MapError> {
+pub(super) fn as_arr<'a>(
+    v: &'a Value,
+    path: &str,
+    ctx: &ErrCtx,
+) -> Result<&'a Vec<Value>, MapError> {
     v.as_array()
         .ok_or_else(|| ctx.err(path, format!("expected an array, found {}", kind(v))))
 }
 
-fn as_u32(v: &Value, path: &str, ctx: &ErrCtx) -> Result<u32, MapError> {
+pub(super) fn as_u32(v: &Value, path: &str, ctx: &ErrCtx) -> Result<u32, MapError> {
     match v.as_u64() {
         Some(x) if x <= u32::MAX as u64 => Ok(x as u32),
         _ => Err(ctx.err(
@@ -205,7 +192,7 @@ fn read_layer(
     Ok(data)
 }
 
-fn read_cell(v: &Value, n: usize, path: &str, ctx: &ErrCtx) -> Result<Cell, MapError> {
+pub(super) fn read_cell(v: &Value, n: usize, path: &str, ctx: &ErrCtx) -> Result<Cell, MapError> {
     let a = as_arr(v, path, ctx)?;
     if a.len() != 2 {
         return Err(ctx.err(path, "expected a [row, col] pair"));
@@ -534,6 +521,7 @@ pub fn read_map_document(v: &Value, file: &str) -> Result<MapDocument, MapError>
         ));
     }
 
+    let open_boundaries = read_open_boundaries(root, n, &rooms, &ctx)?;
     let map = SemanticMap {
         map_id,
         frame,
@@ -543,6 +531,7 @@ pub fn read_map_document(v: &Value, file: &str) -> Result<MapDocument, MapError>
         rooms,
         objects,
         start,
+        open_boundaries,
     };
     Ok(MapDocument { map, extra })
 }
@@ -584,176 +573,4 @@ pub fn dominant_room(cells: &[Cell], rooms: &Grid<u32>) -> Option<u32> {
         }
     }
     best.map(|(r, _)| r)
-}
-
-fn layer_value<T: Copy + Into<u64>>(g: &Grid<T>) -> Value {
-    let n = g.n();
-    Value::Array(
-        (0..n)
-            .map(|r| Value::Array(g.row(r).iter().map(|&v| json!(v.into())).collect()))
-            .collect(),
-    )
-}
-
-fn cell_value(c: Cell) -> Value {
-    json!([c.row, c.col])
-}
-
-fn set_key(obj: &mut Map<String, Value>, key: &str, value: Value) {
-    obj.insert(key.to_string(), value);
-}
-
-fn build_metadata(map: &SemanticMap, extra: &MapExtra) -> Map<String, Value> {
-    let f = &map.frame;
-    let n = map.n();
-    let mut meta = extra.metadata.clone();
-    set_key(&mut meta, "map_id", json!(map.map_id));
-    let extent = (n.saturating_sub(1)) as f64 * f.resolution;
-    match meta.get_mut("map_info") {
-        Some(Value::Object(info)) => {
-            set_key(info, "x_min", json!(f.x_min));
-            set_key(info, "z_min", json!(f.z_min));
-            set_key(info, "resolution", json!(f.resolution));
-        }
-        _ => {
-            let info = json!({
-                "x_min": f.x_min, "x_max": f.x_min + extent, "z_min": f.z_min, "z_max": f.z_min + extent,
-                "resolution": f.resolution, "H": n, "W": n,
-            });
-            set_key(&mut meta, "map_info", info);
-        }
-    }
-    let frame = json!({
-        "index_order": "[row, col]", "row_axis": "world_z", "col_axis": "world_x",
-        "resolution": f.resolution, "x_min": f.x_min, "z_min": f.z_min,
-    });
-    set_key(&mut meta, "grid_coordinate_frame", frame);
-    match map.start {
-        Some(c) => set_key(&mut meta, "start_grid", cell_value(c)),
-        None => {
-            meta.shift_remove("start_grid");
-        }
-    }
-    meta
-}
-
-fn write_with(map: &SemanticMap, extra: &MapExtra) -> Value {
-    let mut root = Map::new();
-    set_key(&mut root, "grid_size", json!(map.n()));
-    set_key(&mut root, "layer_legends", build_legends(map, extra));
-    set_key(
-        &mut root,
-        "metadata",
-        Value::Object(build_metadata(map, extra)),
-    );
-    let layers = json!({
-        "occupancy": layer_value(&map.occupancy),
-        "room": layer_value(&map.room_layer),
-        "object_instance": layer_value(&map.object_layer),
-    });
-    set_key(&mut root, "layers", layers);
-
-    let rooms: Vec<Value> = map
-        .rooms
-        .iter()
-        .map(|r| {
-            let mut o = Map::new();
-            set_key(&mut o, "id", json!(r.id));
-            set_key(&mut o, "category", json!(r.category));
-            set_key(&mut o, "name", json!(r.name));
-            set_key(&mut o, "attributes", json!(r.attributes));
-            set_key(&mut o, "area_m2", json!(r.area_m2));
-            if let Some(extra) = extra.room_keys.get(&r.id) {
-                for (k, v) in extra {
-                    o.entry(k.clone()).or_insert_with(|| v.clone());
-                }
-            }
-            Value::Object(o)
-        })
-        .collect();
-    set_key(&mut root, "room_instances", Value::Array(rooms));
-
-    let objects: Vec<Value> = map.objects.iter().map(|o| object_value(extra, o)).collect();
-    set_key(&mut root, "object_instances", Value::Array(objects));
-
-    let mut footprints = Map::new();
-    for o in &map.objects {
-        let mut f = Map::new();
-        set_key(&mut f, "object_id", json!(o.id));
-        set_key(&mut f, "category", json!(o.category));
-        set_key(&mut f, "name", json!(o.name));
-        set_key(
-            &mut f,
-            "cells",
-            Value::Array(o.footprint.iter().map(|&c| cell_value(c)).collect()),
-        );
-        set_key(&mut f, "center_grid", json!(o.center));
-        set_key(&mut f, "room_id", json!(o.room));
-        if let Some(src) = extra
-            .object_keys
-            .get(&o.id)
-            .and_then(|k| k.get("footprint_source"))
-        {
-            set_key(&mut f, "footprint_source", src.clone());
-        }
-        set_key(&mut f, "num_grid_cells", json!(o.footprint.len()));
-        footprints.insert(o.id.to_string(), Value::Object(f));
-    }
-    set_key(&mut root, "object_footprints", Value::Object(footprints));
-
-    let mut per_cell: BTreeMap<Cell, Vec<(usize, u32)>> = BTreeMap::new();
-    for o in &map.objects {
-        for &c in &o.footprint {
-            per_cell
-                .entry(c)
-                .or_default()
-                .push((o.footprint.len(), o.id));
-        }
-    }
-    let mut cell_ids = Map::new();
-    for (c, mut ids) in per_cell {
-        ids.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-        ids.dedup_by_key(|x| x.1);
-        cell_ids.insert(
-            format!("{},{}", c.row, c.col),
-            json!(ids.iter().map(|x| x.1).collect::<Vec<_>>()),
-        );
-    }
-    set_key(&mut root, "cell_object_ids", Value::Object(cell_ids));
-
-    for (k, v) in &extra.top_level {
-        root.entry(k.clone()).or_insert_with(|| v.clone());
-    }
-    Value::Object(root)
-}
-
-fn object_value(extra: &MapExtra, o: &Object) -> Value {
-    let mut v = Map::new();
-    set_key(&mut v, "id", json!(o.id));
-    set_key(&mut v, "category", json!(o.category));
-    set_key(&mut v, "name", json!(o.name));
-    set_key(&mut v, "attributes", json!(o.attributes));
-    set_key(&mut v, "center_grid", json!(o.center));
-    set_key(&mut v, "room_id", json!(o.room));
-    set_key(&mut v, "num_grid_cells", json!(o.footprint.len()));
-    if let Some(e) = o.elevation_m {
-        set_key(&mut v, "elevation_m", json!(e));
-    }
-    if let Some(h) = o.height_m {
-        set_key(&mut v, "height_m", json!(h));
-    }
-    if let Some(p) = o.parent {
-        set_key(&mut v, "parent_id", json!(p.id));
-        let rel = match p.relation {
-            Relation::On => "on",
-            Relation::Inside => "inside",
-        };
-        set_key(&mut v, "parent_relation", json!(rel));
-    }
-    if let Some(extra) = extra.object_keys.get(&o.id) {
-        for (k, val) in extra {
-            v.entry(k.clone()).or_insert_with(|| val.clone());
-        }
-    }
-    Value::Object(v)
 }

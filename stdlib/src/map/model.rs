@@ -91,6 +91,20 @@ pub struct SemanticMap {
     pub objects: Vec<Object>,
     /// Where a robot starts when the map itself says (ProcTHOR agent pose, the demo house).
     pub start: Option<Cell>,
+    /// Boundaries between two rooms with no wall at all (ProcTHOR's `"empty": true` walls, the
+    /// open-plan kitchen and living room): passable like a doorway, drawn open, and what joins
+    /// rooms into one open-plan area ([`crate::query::MapQuery::open_area`]). Sorted by rooms.
+    pub open_boundaries: Vec<OpenBoundary>,
+}
+
+/// A boundary between two rooms that is left open: no wall, no door, just the line where one
+/// room's floor meets the other's. The two rooms keep their own labels (as in Map2Route).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OpenBoundary {
+    /// The two rooms, smaller id first.
+    pub rooms: (u32, u32),
+    /// The cells along the boundary (where the wall would stand), sorted.
+    pub cells: Vec<Cell>,
 }
 
 /// A map as read from or written to a file: the model plus the file content the model has no
@@ -196,7 +210,21 @@ impl SemanticMap {
         pairs
     }
 
-    /// Rooms adjacent to `id` through a doorway, sorted.
+    /// [`SemanticMap::room_adjacency`] with how each pair is joined: `Door` when some passage
+    /// between them is a doorway, else `Open` (an open boundary only). Sorted by pair.
+    pub fn room_links(&self) -> Vec<(u32, u32, crate::query::PassageKind)> {
+        let free = self.occupancy.map(|&o| o == FREE);
+        let mut out: Vec<(u32, u32, crate::query::PassageKind)> = Vec::new();
+        for p in crate::query::find_passages(self, &free) {
+            match out.last_mut() {
+                Some(last) if (last.0, last.1) == p.rooms => last.2 = last.2.min(p.kind),
+                _ => out.push((p.rooms.0, p.rooms.1, p.kind)),
+            }
+        }
+        out
+    }
+
+    /// Rooms adjacent to `id` through a doorway or an open boundary, sorted.
     pub fn neighbours(&self, id: u32) -> Vec<u32> {
         let mut out: Vec<u32> = self
             .room_adjacency()
@@ -213,6 +241,12 @@ impl SemanticMap {
             .collect();
         out.sort_unstable();
         out
+    }
+
+    /// Whether rooms `a` and `b` share an open boundary (no wall between them).
+    pub fn open_between(&self, a: u32, b: u32) -> bool {
+        let key = (a.min(b), a.max(b));
+        self.open_boundaries.iter().any(|o| o.rooms == key)
     }
 
     /// World `(x, z)` of a cell centre, metres.

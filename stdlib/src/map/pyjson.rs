@@ -121,6 +121,20 @@ pub fn to_python_json<T: Serialize + ?Sized>(value: &T) -> Vec<u8> {
     out
 }
 
+/// [`to_python_json`] into a writer, streaming (nothing but the serializer's state is held).
+pub fn to_python_json_writer<T: Serialize + ?Sized, W: io::Write>(
+    value: &T,
+    w: W,
+) -> io::Result<()> {
+    let mut w = io::BufWriter::with_capacity(1 << 16, w);
+    let fmt = PyFormatter {
+        pretty: PrettyFormatter::with_indent(b"  "),
+    };
+    let mut ser = serde_json::Serializer::with_formatter(&mut w, fmt);
+    value.serialize(&mut ser).map_err(io::Error::other)?;
+    io::Write::flush(&mut w)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -95,5 +95,6 @@ pub fn two_rooms() -> SemanticMap {
         rooms: vec![room(1, "bedroom", 1.8), room(2, "kitchen", 2.0)],
         objects,
         start: Some(Cell::new(18, 2)),
+        open_boundaries: Vec::new(),
     }
 }

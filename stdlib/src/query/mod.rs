@@ -15,8 +15,8 @@ mod route;
 pub use distance::TravelField;
 pub use regions::{WaypointShape, loop_waypoints};
 pub use relations::Thresholds;
-pub use rooms::Passage;
 pub(crate) use rooms::find_passages;
+pub use rooms::{Passage, PassageKind, open_area};
 pub use route::{RoomVisit, nominal_path, room_visits};
 
 use crate::grid::{Cell, Grid};

@@ -17,6 +17,27 @@ pub struct Passage {
     pub rooms: (u32, u32),
     /// Sorted.
     pub cells: Vec<Cell>,
+    /// Through a doorway, or across an open boundary (no wall at all).
+    pub kind: PassageKind,
+}
+
+/// How a passage joins its rooms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PassageKind {
+    /// A doorway or door frame cut in a wall (any passage not on an open boundary).
+    Door,
+    /// An open boundary between open-plan rooms ([`crate::map::OpenBoundary`]).
+    Open,
+}
+
+impl PassageKind {
+    /// `door` / `open`, as `m2rc map info` prints it.
+    pub fn name(self) -> &'static str {
+        match self {
+            PassageKind::Door => "door",
+            PassageKind::Open => "open",
+        }
+    }
 }
 
 /// The passages of `map` over the `free` cells, ordered by room pair then position.
@@ -112,8 +133,26 @@ pub(crate) fn find_passages(map: &SemanticMap, free: &Grid<bool>) -> Vec<Passage
     }
     let mut out = Vec::new();
     for (rooms, cells) in by_pair {
+        let open: Vec<&[Cell]> = map
+            .open_boundaries
+            .iter()
+            .filter(|o| o.rooms == rooms)
+            .map(|o| o.cells.as_slice())
+            .collect();
         for comp in components8(cells) {
-            out.push(Passage { rooms, cells: comp });
+            let on_open = comp
+                .iter()
+                .any(|c| open.iter().any(|o| o.binary_search(c).is_ok()));
+            let kind = if on_open {
+                PassageKind::Open
+            } else {
+                PassageKind::Door
+            };
+            out.push(Passage {
+                rooms,
+                cells: comp,
+                kind,
+            });
         }
     }
     out
@@ -191,6 +230,14 @@ impl MapQuery<'_> {
 
     pub fn adjacent(&self, a: u32, b: u32) -> bool {
         a != b && !self.doorways_between(a, b).is_empty()
+    }
+
+    /// The open-plan area `room` belongs to: `room` and every room joined to it by open
+    /// boundaries (walls ProcTHOR leaves out, typically kitchen and living room), directly or
+    /// through other open-plan rooms; sorted. A room with no open boundary is its own area.
+    /// The rooms keep their own labels: the area is a set of rooms, not a new room.
+    pub fn open_area(&self, room: u32) -> Vec<u32> {
+        open_area(self.map, room)
     }
 
     /// `room.only_reachable_through(through)`: the room has at least one neighbour and every
@@ -284,6 +331,30 @@ impl MapQuery<'_> {
             }
         }
     }
+}
+
+/// [`MapQuery::open_area`] on a map without building a query index.
+pub fn open_area(map: &SemanticMap, room: u32) -> Vec<u32> {
+    let mut area = vec![room];
+    let mut i = 0;
+    while i < area.len() {
+        let r = area[i];
+        i += 1;
+        for o in &map.open_boundaries {
+            let next = if o.rooms.0 == r {
+                o.rooms.1
+            } else if o.rooms.1 == r {
+                o.rooms.0
+            } else {
+                continue;
+            };
+            if !area.contains(&next) {
+                area.push(next);
+            }
+        }
+    }
+    area.sort_unstable();
+    area
 }
 
 fn other(p: &Passage, room: u32) -> u32 {

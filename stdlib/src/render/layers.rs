@@ -42,6 +42,58 @@ impl LabelBox {
     }
 }
 
+/// Open boundaries (no wall between open-plan rooms) as a dashed line along the cell edges where
+/// one room's floor meets the other's, so the picture shows the rooms as open to each other.
+fn draw_open_boundaries(out: &mut String, map: &SemanticMap, view: &View) {
+    if map.open_boundaries.is_empty() {
+        return;
+    }
+    let width = (view.s * 0.6).clamp(1.0, 2.5);
+    let _ = writeln!(
+        out,
+        "<g id=\"open-boundaries\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" stroke-dasharray=\"{} {}\" stroke-linecap=\"butt\">",
+        style::OPEN_BOUNDARY,
+        num(width),
+        num(width * 2.5),
+        num(width * 1.5)
+    );
+    for o in &map.open_boundaries {
+        let (a, b) = o.rooms;
+        let mut d = String::new();
+        for &c in &o.cells {
+            let here = map.room_at(c);
+            if here != a && here != b {
+                continue;
+            }
+            let (r, k) = (c.row as i64, c.col as i64);
+            // Edges to the right and below, each drawn once, where the label switches a <-> b.
+            for (dr, dc) in [(0i64, 1i64), (1, 0)] {
+                let Some(q) = (r + dr >= 0 && k + dc >= 0)
+                    .then(|| Cell::new((r + dr) as u32, (k + dc) as u32))
+                else {
+                    continue;
+                };
+                let there = map.room_at(q);
+                if there == here || (there != a && there != b) {
+                    continue;
+                }
+                let (p0, p1) = if dc == 1 {
+                    ((k + 1, r), (k + 1, r + 1))
+                } else {
+                    ((k, r + 1), (k + 1, r + 1))
+                };
+                let (x0, y0) = view.corner(p0);
+                let (x1, y1) = view.corner(p1);
+                let _ = write!(d, "M{} {}L{} {}", num(x0), num(y0), num(x1), num(y1));
+            }
+        }
+        if !d.is_empty() {
+            let _ = writeln!(out, "<path d=\"{d}\"/>");
+        }
+    }
+    out.push_str("</g>\n");
+}
+
 pub(super) fn draw_base(
     out: &mut String,
     map: &SemanticMap,
@@ -172,6 +224,7 @@ pub(super) fn draw_base(
         );
     }
     out.push_str("</g>\n");
+    draw_open_boundaries(out, map, view);
 
     out.push_str("<g id=\"labels\">\n");
     let start_cell = map.start.filter(|c| in_grid(&c));

@@ -78,6 +78,12 @@ impl Legend {
             };
             things.push((fill(c), name.to_string()));
         }
+        if !map.open_boundaries.is_empty() {
+            things.push((
+                Swatch::Line(style::OPEN_BOUNDARY.into()),
+                "open boundary".to_string(),
+            ));
+        }
         let res = map.resolution();
         let furniture = map
             .objects

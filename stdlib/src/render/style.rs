@@ -51,6 +51,8 @@ pub const UNKNOWN: &str = "#b0b0b0";
 pub const WALL: &str = "#2b2b2b";
 pub const DOORWAY: &str = "#1fa64a";
 pub const WINDOW: &str = "#2f80ed";
+/// Open boundaries between open-plan rooms: the doorway green, dashed (passable, no wall).
+pub const OPEN_BOUNDARY: &str = "#1fa64a";
 pub const FURNITURE_FILL: &str = "#f6f3ec";
 pub const FURNITURE_STROKE: &str = "#5f5a52";
 pub const SMALL_FILL: &str = "#ffffff";

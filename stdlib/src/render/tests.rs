@@ -88,6 +88,7 @@ fn tiny_house() -> SemanticMap {
         rooms: vec![room(1, "kitchen", 10.1), room(2, "bedroom", 9.0)],
         objects,
         start: Some(Cell::new(15, 4)),
+        open_boundaries: Vec::new(),
     }
 }
 
@@ -104,6 +105,7 @@ fn empty_map(n: usize) -> SemanticMap {
         object_layer: Grid::new(n, 0),
         rooms: Vec::new(),
         objects: Vec::new(),
+        open_boundaries: Vec::new(),
         start: None,
     }
 }
@@ -648,4 +650,38 @@ fn write_fixture_overlay_picture() {
     let out = render_map(&map, &opts).unwrap();
     std::fs::write(dir.join("overlays.png"), &out.png).unwrap();
     std::fs::write(dir.join("overlays.svg"), &out.svg).unwrap();
+}
+
+/// An open boundary is drawn as a dashed line where the two rooms meet, not as a wall, and the
+/// legend names it.
+#[test]
+fn open_boundary_is_drawn_open() {
+    let mut map = tiny_house();
+    // Take the wall away and mark its column as the open boundary between the two rooms.
+    let wall = rect(1, 10, 18, 10);
+    map.objects
+        .retain(|o| o.category != "wall" && o.category != "doorway");
+    for c in &wall {
+        map.occupancy.set(*c, FREE);
+        map.room_layer.set(*c, 1);
+    }
+    let cells: Vec<Cell> = rect(1, 10, 18, 11);
+    map.open_boundaries = vec![crate::map::OpenBoundary {
+        rooms: (1, 2),
+        cells,
+    }];
+    let svg = render_svg(&map, &RenderOptions::default()).unwrap();
+    let group = svg
+        .split("<g id=\"open-boundaries\"")
+        .nth(1)
+        .expect("open boundaries drawn");
+    let group = &group[..group.find("</g>").unwrap()];
+    assert!(group.contains("stroke-dasharray"), "{group}");
+    // One edge per row between col 10 (room 1) and col 11 (room 2): 18 segments.
+    assert_eq!(group.matches('M').count(), 18, "{group}");
+    assert!(svg.contains("open boundary"));
+    assert!(!svg.contains(&format!("fill=\"{}\"", style::WALL)));
+    // The plain house has none.
+    let plain = render_svg(&tiny_house(), &RenderOptions::default()).unwrap();
+    assert!(!plain.contains("open-boundaries"));
 }
