@@ -306,3 +306,45 @@ fn object_value(extra: &MapExtra, o: &Object) -> Value {
     }
     Value::Object(v)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The streamed text, the in-memory text and the `Value` are one serialization.
+    #[test]
+    fn text_value_and_stream_agree() {
+        let mut doc = crate::demo::demo_document(&crate::import::ImportOptions {
+            resolution: 0.25,
+            ..Default::default()
+        })
+        .unwrap();
+        doc.map.open_boundaries = vec![crate::map::OpenBoundary {
+            rooms: (1, 2),
+            cells: vec![Cell::new(3, 4), Cell::new(3, 5)],
+        }];
+        let text = write_map_document_json(&doc);
+        let mut streamed = Vec::new();
+        write_map_document_to(&doc, &mut streamed).unwrap();
+        assert_eq!(text, streamed);
+        let parsed: Value = serde_json::from_slice(&text).unwrap();
+        assert_eq!(parsed, write_map_document(&doc));
+        let keys: Vec<&String> = parsed.as_object().unwrap().keys().collect();
+        assert_eq!(keys.last().map(|k| k.as_str()), Some("open_boundaries"));
+        // Per cell, larger footprints first, then by id.
+        let ids = &parsed["cell_object_ids"];
+        for (_, list) in ids.as_object().unwrap() {
+            let list: Vec<u64> = list
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_u64().unwrap())
+                .collect();
+            let size = |id: u64| doc.map.object(id as u32).map_or(0, |o| o.footprint.len());
+            assert!(
+                list.windows(2)
+                    .all(|w| size(w[0]) > size(w[1]) || (size(w[0]) == size(w[1]) && w[0] < w[1]))
+            );
+        }
+    }
+}
