@@ -14,7 +14,13 @@ pub fn stage_scope(order: u32) -> Value {
     json!({"type": "between_hard_constraints", "from_order": order - 1, "to_order": order})
 }
 
-pub fn avoid_json(ix: &MapIndex<'_>, no: usize, cells: &[usize], label: &str, scope: Value) -> Value {
+pub fn avoid_json(
+    ix: &MapIndex<'_>,
+    no: usize,
+    cells: &[usize],
+    label: &str,
+    scope: Value,
+) -> Value {
     let center = cells_center(ix, cells);
     json!({
         "constraint_id": format!("avoid_{no}"), "kind": "must_avoid", "shape": "freeform",

@@ -234,7 +234,9 @@ impl<'a> Scene<'a> {
                 .map(|d| (*d).clone())
         };
         let (da, db) = (pick(t, rng)?, pick(b, rng)?);
-        let cells = self.q.corridor(Target::Object(oa), Target::Object(ix.object(b)));
+        let cells = self
+            .q
+            .corridor(Target::Object(oa), Target::Object(ix.object(b)));
         self.region_stage(&cells, room, Dest::Between { a: da, b: db }, vec![t, b])
     }
 

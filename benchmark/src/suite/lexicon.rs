@@ -40,10 +40,7 @@ const PARAPHRASES: &[(&str, &[&str])] = &[
 ];
 
 fn names(cat: &str) -> Option<&'static [&'static str]> {
-    PARAPHRASES
-        .iter()
-        .find(|(c, _)| *c == cat)
-        .map(|(_, n)| *n)
+    PARAPHRASES.iter().find(|(c, _)| *c == cat).map(|(_, n)| *n)
 }
 
 /// The plain name of a category.
@@ -80,8 +77,6 @@ pub fn plural(name: &str) -> String {
         format!("{head}es")
     } else if head.ends_with('y') && !head.ends_with("ey") && !head.ends_with("ay") {
         format!("{}ies", &head[..head.len() - 1])
-    } else if head == "TV" || head == "CD" {
-        format!("{head}s")
     } else {
         format!("{head}s")
     };

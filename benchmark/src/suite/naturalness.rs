@@ -61,7 +61,11 @@ impl Naturalness {
             let singles = r
                 .get("superlative_over")
                 .and_then(Value::as_array)
-                .map(|a| a.iter().filter(|n| n.as_u64().is_some_and(|n| n < 2)).count())
+                .map(|a| {
+                    a.iter()
+                        .filter(|n| n.as_u64().is_some_and(|n| n < 2))
+                        .count()
+                })
                 .unwrap_or(0);
             self.singleton_superlatives += singles;
         }

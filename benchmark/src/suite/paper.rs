@@ -91,14 +91,7 @@ pub const AXES: &[PaperAxis] = &[
     PaperAxis {
         axis: "soft constraints per episode (incl. clearance)",
         easy: (74.0 + 2.0 * 476.0 + 3.0 * 139.0 + 4.0 * 11.0) / EASY,
-        hard: (2.0
-            + 2.0 * 19.0
-            + 3.0 * 110.0
-            + 4.0 * 119.0
-            + 5.0 * 39.0
-            + 6.0 * 10.0
-            + 7.0)
-            / HARD,
+        hard: (2.0 + 2.0 * 19.0 + 3.0 * 110.0 + 4.0 * 119.0 + 5.0 * 39.0 + 6.0 * 10.0 + 7.0) / HARD,
         source: "soft_constraints_including_clearance_per_episode_hist",
     },
     PaperAxis {

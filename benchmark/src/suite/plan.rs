@@ -88,7 +88,10 @@ pub enum Subject {
     /// the room names it ("in the kitchen, keep away from the fridge":
     /// `objects(fridge).in(<scope room>).only()`), as people leave the scope implied.
     One(u32, Option<ObjRef>),
-    All { cat: String, ids: Vec<u32> },
+    All {
+        cat: String,
+        ids: Vec<u32>,
+    },
 }
 
 impl Subject {

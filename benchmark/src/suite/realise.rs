@@ -58,11 +58,12 @@ impl<'r> Speaker<'r> {
         if self.knows_room(id) || r.is_none() {
             *self.room_back.entry(id).or_default() += 1;
             let n = lexicon::noun(&cat, self.rng);
-            return self.pick(
-                "room.back",
-                &["that room", "the same {n}", "that {n}", "this {n}"],
-            )
-            .replace("{n}", &n);
+            return self
+                .pick(
+                    "room.back",
+                    &["that room", "the same {n}", "that {n}", "this {n}"],
+                )
+                .replace("{n}", &n);
         }
         *self.room_full.entry(id).or_default() += 1;
         r.map(|r| r.full_text(self.rng)).unwrap_or_default()
@@ -295,12 +296,7 @@ pub fn leg(sp: &mut Speaker<'_>, dest: &str) -> String {
 }
 
 /// A must-avoid sentence: for the whole route (`global`) or for one leg (`leg` phrase).
-pub fn avoid(
-    sp: &mut Speaker<'_>,
-    kind: &str,
-    x: &str,
-    leg: Option<&str>,
-) -> String {
+pub fn avoid(sp: &mut Speaker<'_>, kind: &str, x: &str, leg: Option<&str>) -> String {
     let t = match (kind, leg.is_none()) {
         ("room", true) => sp.pick(
             "avoid.room.global",

@@ -125,9 +125,9 @@ impl RoomRef {
             RoomRef::Containing { cat, obj_cat } => {
                 format!("rooms({cat}).containing(objects({obj_cat})).only()")
             }
-            RoomRef::Counting { cat, obj_cat, n } => format!(
-                "rooms({cat}).where(r => objects({obj_cat}).in(r).count() == {n}).only()"
-            ),
+            RoomRef::Counting { cat, obj_cat, n } => {
+                format!("rooms({cat}).where(r => objects({obj_cat}).in(r).count() == {n}).only()")
+            }
         }
     }
 
@@ -165,7 +165,8 @@ impl RoomRef {
                 format!(
                     "the {} {}",
                     noun(cat, rng),
-                    form.replace("{n}", &number_word(*n)).replace("{x}", &things)
+                    form.replace("{n}", &number_word(*n))
+                        .replace("{x}", &things)
                 )
             }
         }
@@ -348,11 +349,7 @@ impl ObjRef {
                     .choose(sp.rng)
                     .copied()
                     .unwrap_or("nearest to");
-                let rel = if rel == "nearest the" {
-                    "nearest"
-                } else {
-                    rel
-                };
+                let rel = if rel == "nearest the" { "nearest" } else { rel };
                 let a = anchor.text(ix, sp);
                 match room {
                     Some(room) => {
@@ -589,7 +586,13 @@ fn describe_uncached(
     }
     let o = ix.object(id);
     let cat = o.category.clone();
-    if keep(ix, id, max_depth, ObjRef::Unique { cat: cat.clone() }, &mut out) {
+    if keep(
+        ix,
+        id,
+        max_depth,
+        ObjRef::Unique { cat: cat.clone() },
+        &mut out,
+    ) {
         // One of its kind: any qualifier would be noise.
         return out;
     }
@@ -712,8 +715,7 @@ pub fn from_start(ix: &MapIndex<'_>, id: u32, start: Cell, max_depth: u32) -> Ve
                     room: Some(rr),
                     farthest,
                 };
-                if r.depth() <= max_depth && r.is_natural() && r.resolve(ix, Some(start)) == [id]
-                {
+                if r.depth() <= max_depth && r.is_natural() && r.resolve(ix, Some(start)) == [id] {
                     out.push(r);
                     break;
                 }

@@ -3,8 +3,8 @@
 //! program statement beside it, and the pair is recorded in `m2rc_generation.clauses`.
 
 use super::annotate::{
-    TIMESTAMP, avoid_json, cells_json, default_clearance, footprints_json,
-    global_scope, round3, soft_base, stage_scope, wrap,
+    TIMESTAMP, avoid_json, cells_json, default_clearance, footprints_json, global_scope, round3,
+    soft_base, stage_scope, wrap,
 };
 use super::avoid::AROUND_M;
 use super::generate::{
@@ -55,7 +55,11 @@ impl Out {
             candidates: r.candidates(ix),
             object_categories: r.object_cats().iter().map(|c| c.to_string()).collect(),
             room_categories: r.rooms().iter().map(|x| x.category().to_string()).collect(),
-            superlative_over: r.rooms().iter().filter_map(|x| x.superlative_over(ix)).collect(),
+            superlative_over: r
+                .rooms()
+                .iter()
+                .filter_map(|x| x.superlative_over(ix))
+                .collect(),
         });
     }
 
@@ -194,8 +198,11 @@ impl<'a> Scene<'a> {
                 if n > 1 {
                     realise::leg(sp, short)
                 } else {
-                    sp.pick("leg.only", &["on the way there", "along the way", "on your way"])
-                        .to_string()
+                    sp.pick(
+                        "leg.only",
+                        &["on the way there", "along the way", "on your way"],
+                    )
+                    .to_string()
                 }
             };
             let mut body: Vec<String> = Vec::new();
@@ -205,8 +212,13 @@ impl<'a> Scene<'a> {
                 let l = leg_phrase(&mut sp);
                 let s = realise::avoid(&mut sp, kind, &t, Some(&l));
                 out.say(&mut sp, s, format!("avoid {m2r}"));
-                out.hard
-                    .push(avoid_json(ix, avoid_no, &avoid.cells, &t, stage_scope(order)));
+                out.hard.push(avoid_json(
+                    ix,
+                    avoid_no,
+                    &avoid.cells,
+                    &t,
+                    stage_scope(order),
+                ));
                 body.push(format!("avoid {m2r}"));
             }
             for soft in &stage.softs {
@@ -236,7 +248,17 @@ impl<'a> Scene<'a> {
             out.route.push(format!("  avoid {m2r}"));
         }
         out.soft.push(default_clearance());
-        self.finish(sp, out, id, difficulty, start, n, avoid_no, objects_json, route)
+        self.finish(
+            sp,
+            out,
+            id,
+            difficulty,
+            start,
+            n,
+            avoid_no,
+            objects_json,
+            route,
+        )
     }
 
     /// (text, program expression, short anaphoric name) of a destination.
@@ -306,7 +328,10 @@ impl<'a> Scene<'a> {
                 out.stat(ix, &role, b, &tb);
                 let form = sp.pick(
                     "between",
-                    &["the small area between {a} and {b}", "the spot between {a} and {b}"],
+                    &[
+                        "the small area between {a} and {b}",
+                        "the spot between {a} and {b}",
+                    ],
                 );
                 let t = realise::fill(form, &[("a", &ta), ("b", &tb)]);
                 (
@@ -375,7 +400,10 @@ impl<'a> Scene<'a> {
         match &soft.scope {
             RoomScope::Destination => {
                 let r = dest_room(sp);
-                let t = sp.pick("scope.dest", &["once you are in {r}", "in {r}", "when you enter {r}"]);
+                let t = sp.pick(
+                    "scope.dest",
+                    &["once you are in {r}", "in {r}", "when you enter {r}"],
+                );
                 (format!("{var}.room()"), realise::fill(t, &[("r", &r)]))
             }
             RoomScope::Start => {
@@ -393,7 +421,10 @@ impl<'a> Scene<'a> {
                 let r = dest_room(sp);
                 let t = sp.pick(
                     "scope.before",
-                    &["in the room just before {r}", "in the room right before you enter {r}"],
+                    &[
+                        "in the room just before {r}",
+                        "in the room right before you enter {r}",
+                    ],
                 );
                 (
                     format!("room_before_entering({var}.room())"),
@@ -403,7 +434,14 @@ impl<'a> Scene<'a> {
             RoomScope::Crossed(rr) => {
                 let r = sp.room(ix, rr);
                 out.stat_room(ix, "scope", rr, &r);
-                let t = sp.pick("scope.cross", &["as you pass through {r}", "when you cross {r}", "while in {r}"]);
+                let t = sp.pick(
+                    "scope.cross",
+                    &[
+                        "as you pass through {r}",
+                        "when you cross {r}",
+                        "while in {r}",
+                    ],
+                );
                 (rr.m2r(), realise::fill(t, &[("r", &r)]))
             }
         }
@@ -459,9 +497,24 @@ impl<'a> Scene<'a> {
         let role = format!("{} preference", soft.kind());
         let label = format!("{} in room {}", soft.kind(), soft.room);
         if let Pref::Shape(shape) = &soft.pref {
-            let mut c = soft_base(no, "path_shape_preference", stage_scope(order), &label, ix, &shape.area);
-            let ring: Vec<Value> = shape.reference.iter().map(|c| json!([c.row, c.col])).collect();
-            let dir = if shape.clockwise { "clockwise" } else { "counterclockwise" };
+            let mut c = soft_base(
+                no,
+                "path_shape_preference",
+                stage_scope(order),
+                &label,
+                ix,
+                &shape.area,
+            );
+            let ring: Vec<Value> = shape
+                .reference
+                .iter()
+                .map(|c| json!([c.row, c.col]))
+                .collect();
+            let dir = if shape.clockwise {
+                "clockwise"
+            } else {
+                "counterclockwise"
+            };
             let (text, line, kind) = match shape.kind {
                 ShapeKind::Circle => {
                     let (o, desc) = shape.object.clone().expect("a circle has an object");
@@ -480,10 +533,13 @@ impl<'a> Scene<'a> {
                         }
                     };
                     c["object_ids"] = json!([o]);
-                    c["reference_region"] =
-                        json!({"mode": "object", "object_id": o, "cells": footprints_json(ix, &[o])});
+                    c["reference_region"] = json!({"mode": "object", "object_id": o, "cells": footprints_json(ix, &[o])});
                     let s = realise::circle(sp, &t, shape.clockwise);
-                    let s = if sp.chance(0.5) { format!("{leg}, {s}") } else { s };
+                    let s = if sp.chance(0.5) {
+                        format!("{leg}, {s}")
+                    } else {
+                        s
+                    };
                     (
                         sentence(&s),
                         format!(
@@ -518,27 +574,38 @@ impl<'a> Scene<'a> {
             return (c, line);
         }
         let (s_m2r, s_text) = self.scope(sp, out, soft, var, short);
-        let (kind, pref_text, pref_m2r, ids): (&str, String, String, Vec<Vec<u32>>) = match &soft.pref {
-            Pref::Near(x) => {
-                let (t, m) = self.subject_text(sp, out, x, &s_m2r, &role);
-                ("near_preference", realise::near(sp, &t), format!("near({m})"), vec![x.ids()])
-            }
-            Pref::Far(x) => {
-                let (t, m) = self.subject_text(sp, out, x, &s_m2r, &role);
-                ("far_preference", realise::far(sp, &t), format!("far({m})"), vec![x.ids()])
-            }
-            Pref::Relative(a, b) => {
-                let (ta, ma) = self.subject_text(sp, out, a, &s_m2r, &role);
-                let (tb, mb) = self.subject_text(sp, out, b, &s_m2r, &role);
-                (
-                    "relative_preference",
-                    realise::relative(sp, &ta, &tb),
-                    format!("closer({ma}, {mb})"),
-                    vec![a.ids(), b.ids()],
-                )
-            }
-            Pref::Shape(_) => unreachable!("handled above"),
-        };
+        let (kind, pref_text, pref_m2r, ids): (&str, String, String, Vec<Vec<u32>>) =
+            match &soft.pref {
+                Pref::Near(x) => {
+                    let (t, m) = self.subject_text(sp, out, x, &s_m2r, &role);
+                    (
+                        "near_preference",
+                        realise::near(sp, &t),
+                        format!("near({m})"),
+                        vec![x.ids()],
+                    )
+                }
+                Pref::Far(x) => {
+                    let (t, m) = self.subject_text(sp, out, x, &s_m2r, &role);
+                    (
+                        "far_preference",
+                        realise::far(sp, &t),
+                        format!("far({m})"),
+                        vec![x.ids()],
+                    )
+                }
+                Pref::Relative(a, b) => {
+                    let (ta, ma) = self.subject_text(sp, out, a, &s_m2r, &role);
+                    let (tb, mb) = self.subject_text(sp, out, b, &s_m2r, &role);
+                    (
+                        "relative_preference",
+                        realise::relative(sp, &ta, &tb),
+                        format!("closer({ma}, {mb})"),
+                        vec![a.ids(), b.ids()],
+                    )
+                }
+                Pref::Shape(_) => unreachable!("handled above"),
+            };
         let mut c = soft_base(no, kind, stage_scope(order), &label, ix, &soft.region);
         if let [one] = ids.as_slice() {
             c["object_ids"] = json!(one);

@@ -98,7 +98,9 @@ impl SplitStats {
             "episode max depth" => self.episode_max_depth.mean,
             "must-pass per episode (incl. start)" => self.per_episode(self.must_pass),
             "must-avoid per episode" => self.per_episode(self.must_avoid),
-            "additional hard constraints per episode" => Self::hist_mean(&self.additional_hard_hist),
+            "additional hard constraints per episode" => {
+                Self::hist_mean(&self.additional_hard_hist)
+            }
             "soft constraints per episode (incl. clearance)" => {
                 Self::hist_mean(&self.soft_including_clearance_hist)
             }

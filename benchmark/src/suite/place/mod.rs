@@ -173,8 +173,7 @@ impl<'a> Scene<'a> {
         }
         let without = leg.mask.without(cells);
         let reach = without.reachable_from(leg.view.from);
-        !leg
-            .stage
+        !leg.stage
             .goal
             .iter()
             .any(|&i| reach.get(i).copied().unwrap_or(false))
@@ -261,10 +260,16 @@ impl<'a> Scene<'a> {
                 for c in c0.saturating_sub(pad)..=(c1 + pad).min(n as u32 - 1) {
                     let cell = Cell::new(r, c);
                     let i = ix.free.index(cell);
-                    if out[i] || !leg.mask.passable(cell) || room.is_some_and(|r| ix.room_at(cell) != r) {
+                    if out[i]
+                        || !leg.mask.passable(cell)
+                        || room.is_some_and(|r| ix.room_at(cell) != r)
+                    {
                         continue;
                     }
-                    let d = fp.iter().map(|f| cell.dist(*f)).fold(f64::INFINITY, f64::min);
+                    let d = fp
+                        .iter()
+                        .map(|f| cell.dist(*f))
+                        .fold(f64::INFINITY, f64::min);
                     if (lo..=hi).contains(&d) {
                         out[i] = true;
                     }
