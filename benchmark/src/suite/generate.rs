@@ -29,7 +29,7 @@ use std::collections::BTreeMap;
 pub const START_RADIUS: f64 = 3.0;
 /// Plans drawn per episode slot; the first with every preference placed is kept, else the one
 /// with the most.
-const ATTEMPTS: usize = 8;
+const ATTEMPTS: usize = 5;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]

@@ -56,7 +56,8 @@ pub struct LegCtx<'s> {
     /// `mask` as a grid, and the legal travel distance from every cell to the goal over it
     /// (one distance field per leg, so a witness is two cheap walks).
     pub grid: m2rc_stdlib::grid::Grid<bool>,
-    pub to_goal: m2rc_stdlib::query::TravelField,
+    /// Built on first use (only detours need it).
+    pub to_goal: std::cell::OnceCell<m2rc_stdlib::query::TravelField>,
     /// Cells within [`KEEP_OFF_GOAL_M`] of the goal region or of the leg's start.
     pub keep_off: Vec<bool>,
 }
@@ -88,8 +89,7 @@ impl<'a> Scene<'a> {
             keep_off[i] |= b;
         }
         let grid = mask.to_grid();
-        let goal_cells: Vec<Cell> = stage.goal.iter().map(|&i| ix.cell(i)).collect();
-        let to_goal = m2rc_stdlib::query::TravelField::new(&grid, &goal_cells, ix.resolution());
+        let to_goal = std::cell::OnceCell::new();
         LegCtx {
             k,
             stage,
@@ -228,7 +228,12 @@ impl<'a> Scene<'a> {
     pub(crate) fn detour_via(&self, leg: &LegCtx<'_>, via: &[bool]) -> Option<Vec<Cell>> {
         let (mut first, _) = leg.mask.shortest_to(leg.view.from, via)?;
         let mid = *first.last()?;
-        let mut second = leg.to_goal.path_to(&leg.grid, mid)?;
+        let to_goal = leg.to_goal.get_or_init(|| {
+            let ix = &self.ix;
+            let goal: Vec<Cell> = leg.stage.goal.iter().map(|&i| ix.cell(i)).collect();
+            m2rc_stdlib::query::TravelField::new(&leg.grid, &goal, ix.resolution())
+        });
+        let mut second = to_goal.path_to(&leg.grid, mid)?;
         second.reverse();
         first.extend(second.into_iter().skip(1));
         Some(self.scored(leg, first))
