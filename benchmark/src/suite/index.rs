@@ -11,6 +11,10 @@ use std::sync::Mutex;
 pub const STRUCTURAL: &[&str] = &["wall", "doorway", "doorframe", "window", "floor", "door"];
 
 /// Radius padding of a must-pass region, metres (Map2Route `TEMPLATE_HARD_CONSTRAINT_PADDING_METERS`).
+/// Structural categories that references may still name (counted, kept away from).
+pub const FIXTURES: &[&str] = &["window"];
+
+/// Radius padding of a must-pass region, metres (Map2Route `TEMPLATE_HARD_CONSTRAINT_PADDING_METERS`).
 pub const MUST_PASS_PADDING_M: f64 = 1.0;
 
 pub struct MapIndex<'a> {
@@ -22,6 +26,9 @@ pub struct MapIndex<'a> {
     pub rooms_by_cat: BTreeMap<String, Vec<u32>>,
     /// Cell indices per room id.
     pub room_cells: BTreeMap<u32, Vec<usize>>,
+    /// Structural objects a person still names, counts and keeps away from (windows), by
+    /// category: high-count categories for references and preferences, never destinations.
+    pub fixtures_by_cat: BTreeMap<String, Vec<u32>>,
     /// Footprint distances already computed (they are quadratic in footprint size).
     fp_cache: Mutex<HashMap<(u32, u32), f64>>,
 }
@@ -36,7 +43,14 @@ impl<'a> MapIndex<'a> {
             .map(|&v| v == m2rc_stdlib::map::FREE)
             .collect();
         let mut objects_by_cat: BTreeMap<String, Vec<u32>> = BTreeMap::new();
+        let mut fixtures_by_cat: BTreeMap<String, Vec<u32>> = BTreeMap::new();
         for o in &map.objects {
+            if FIXTURES.contains(&o.category.as_str()) && !o.footprint.is_empty() {
+                fixtures_by_cat
+                    .entry(o.category.clone())
+                    .or_default()
+                    .push(o.id);
+            }
             if !STRUCTURAL.contains(&o.category.as_str()) && !o.footprint.is_empty() {
                 objects_by_cat
                     .entry(o.category.clone())
@@ -63,6 +77,7 @@ impl<'a> MapIndex<'a> {
             objects_by_cat,
             rooms_by_cat,
             room_cells,
+            fixtures_by_cat,
             fp_cache: Mutex::default(),
         }
     }
@@ -81,6 +96,42 @@ impl<'a> MapIndex<'a> {
             .get(cat)
             .map(Vec::as_slice)
             .unwrap_or(&[])
+    }
+
+    /// Fixtures (windows) of `cat`, ascending id.
+    pub fn fixtures_of(&self, cat: &str) -> &[u32] {
+        self.fixtures_by_cat
+            .get(cat)
+            .map(Vec::as_slice)
+            .unwrap_or(&[])
+    }
+
+    /// Objects of `cat`, fixtures included: what `objects(cat)` means to the compiler.
+    pub fn all_of_cat(&self, cat: &str) -> &[u32] {
+        match self.fixtures_by_cat.get(cat) {
+            Some(v) => v,
+            None => self.of_cat(cat),
+        }
+    }
+
+    /// The room an object lies in as the compiler's `room_of` decides it: its own room, else the
+    /// room holding most of its footprint (ties to the smaller id).
+    pub fn object_room(&self, id: u32) -> Option<u32> {
+        let o = self.object(id);
+        if o.room.is_some() {
+            return o.room;
+        }
+        let mut counts: BTreeMap<u32, usize> = BTreeMap::new();
+        for &c in &o.footprint {
+            let r = self.room_at(c);
+            if r != 0 {
+                *counts.entry(r).or_default() += 1;
+            }
+        }
+        counts
+            .into_iter()
+            .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+            .map(|(r, _)| r)
     }
 
     pub fn rooms_of_cat(&self, cat: &str) -> &[u32] {

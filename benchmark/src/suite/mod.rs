@@ -13,13 +13,22 @@
 //! from (seed, map key, episode id), scenes are processed in parallel but written to fixed paths,
 //! and the manifest lists scenes and episodes in rank / id order.
 
+pub mod annotate;
+pub mod avoid;
+pub mod dest;
 pub mod generate;
 pub mod houses;
 pub mod index;
+pub mod lexicon;
+pub mod naturalness;
+pub mod paper;
 pub mod paths;
+pub mod place;
+pub mod plan;
+pub mod realise;
 pub mod refs;
+pub mod render;
 pub mod stats;
-pub mod text;
 
 use crate::episode::Episode;
 use crate::methods::{Method, PreparedMap};

@@ -57,6 +57,12 @@ impl PassMask {
         PassMask { n, pass }
     }
 
+    /// The mask as a grid (for the stdlib's distance fields).
+    pub fn to_grid(&self) -> m2rc_stdlib::grid::Grid<bool> {
+        m2rc_stdlib::grid::Grid::from_vec(self.n, self.pass.clone())
+            .unwrap_or_else(|| m2rc_stdlib::grid::Grid::new(self.n, false))
+    }
+
     pub fn n(&self) -> usize {
         self.n
     }

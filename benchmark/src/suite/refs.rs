@@ -1,12 +1,25 @@
 //! Referring expressions: descriptions of one object or room that single it out on a map.
 //!
-//! A description is a small tree (category, room, parent, anchor) that is rendered twice, once as
-//! English and once as a `.m2r` expression, so the instruction and its gold program can never
-//! drift apart. Each description is resolved here with the plain map semantics before it is kept
-//! (exactly one match, with a clear margin for "nearest"), and the compiler later resolves the
-//! gold program again as the validity check.
+//! A description is a small tree (category, room, parent, anchor, the robot) rendered twice, once
+//! as English (through a [`Speaker`], which remembers what the episode has already described) and
+//! once as a `.m2r` expression with the language's existing built-ins, so the instruction and its
+//! gold program cannot drift apart. Each description is resolved here with the plain map
+//! semantics before it is kept, and the compiler resolves the gold program again as the validity
+//! check.
+//!
+//! What a person would write, as rules every kept description obeys:
+//! * a qualifier only when it disambiguates: "the fridge" when there is one fridge; a room, a
+//!   parent or an anchor only when the bare category is ambiguous, and a room on a "nearest"
+//!   only when the nearest alone is not unique;
+//! * a superlative ("the largest bedroom") only over two or more rooms of the category;
+//! * no category twice in one chain (no "the sink closest to the toilet closest to the sink",
+//!   no "the smallest living room in the biggest living room");
+//! * "nearest" only with a clear winner (25 % margin under both distance definitions).
 
-use super::index::{MapIndex, category_words};
+use super::index::MapIndex;
+use super::lexicon::{self, number_word, plural};
+use super::realise::Speaker;
+use m2rc_stdlib::grid::Cell;
 use rand::Rng;
 use rand::seq::IndexedRandom;
 use rand_chacha::ChaCha8Rng;
@@ -20,12 +33,19 @@ const NEAREST_MARGIN: f64 = 1.25;
 pub enum RoomRef {
     /// The only room of its category: "the kitchen".
     Unique { cat: String },
-    /// "the largest bedroom".
+    /// "the largest bedroom" (two or more bedrooms).
     Largest { cat: String },
-    /// "the smallest bathroom".
+    /// "the smallest bathroom" (two or more bathrooms).
     Smallest { cat: String },
     /// The only room of its category holding an object of `obj_cat`: "the bedroom with the desk".
     Containing { cat: String, obj_cat: String },
+    /// The only room of its category with exactly `n` objects of `obj_cat`: "the bedroom with two
+    /// windows".
+    Counting {
+        cat: String,
+        obj_cat: String,
+        n: usize,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -42,13 +62,27 @@ pub enum ObjRef {
         room: Option<RoomRef>,
         anchor: Box<ObjRef>,
     },
+    /// Relative to the robot: "the chair closest to you", "the plant farthest from where you
+    /// start" (`objects(c).nearest(start)` / `.farthest(start)`).
+    FromYou {
+        cat: String,
+        room: Option<RoomRef>,
+        farthest: bool,
+    },
+    /// Negation: "the book that is not on a desk"
+    /// (`objects(book).where(b => not b.on(objects(desk))).only()`).
+    NotOn {
+        cat: String,
+        room: Option<RoomRef>,
+        other: String,
+    },
 }
 
 impl RoomRef {
     /// Number of noun phrases (entities) mentioned.
     pub fn depth(&self) -> u32 {
         match self {
-            RoomRef::Containing { .. } => 2,
+            RoomRef::Containing { .. } | RoomRef::Counting { .. } => 2,
             _ => 1,
         }
     }
@@ -58,7 +92,28 @@ impl RoomRef {
             RoomRef::Unique { cat }
             | RoomRef::Largest { cat }
             | RoomRef::Smallest { cat }
-            | RoomRef::Containing { cat, .. } => cat,
+            | RoomRef::Containing { cat, .. }
+            | RoomRef::Counting { cat, .. } => cat,
+        }
+    }
+
+    /// Object categories the description names.
+    fn object_cats(&self) -> Vec<&str> {
+        match self {
+            RoomRef::Containing { obj_cat, .. } | RoomRef::Counting { obj_cat, .. } => {
+                vec![obj_cat]
+            }
+            _ => vec![],
+        }
+    }
+
+    /// Whether the description ranks rooms ("largest", "smallest"), and over how many.
+    pub fn superlative_over(&self, ix: &MapIndex<'_>) -> Option<usize> {
+        match self {
+            RoomRef::Largest { cat } | RoomRef::Smallest { cat } => {
+                Some(ix.rooms_of_cat(cat).len())
+            }
+            _ => None,
         }
     }
 
@@ -70,34 +125,54 @@ impl RoomRef {
             RoomRef::Containing { cat, obj_cat } => {
                 format!("rooms({cat}).containing(objects({obj_cat})).only()")
             }
+            RoomRef::Counting { cat, obj_cat, n } => {
+                format!("rooms({cat}).where(r => objects({obj_cat}).in(r).count() == {n}).only()")
+            }
         }
     }
 
-    pub fn text(&self, rng: &mut ChaCha8Rng) -> String {
+    /// The full description, as English.
+    pub fn full_text(&self, rng: &mut ChaCha8Rng) -> String {
+        let noun = |c: &str, rng: &mut ChaCha8Rng| lexicon::noun(c, rng);
         match self {
-            RoomRef::Unique { cat } => format!("the {}", category_words(cat)),
+            RoomRef::Unique { cat } => format!("the {}", noun(cat, rng)),
             RoomRef::Largest { cat } => {
                 let adj = ["largest", "biggest"]
                     .choose(rng)
                     .copied()
                     .unwrap_or("largest");
-                format!("the {adj} {}", category_words(cat))
+                format!("the {adj} {}", noun(cat, rng))
             }
-            RoomRef::Smallest { cat } => format!("the smallest {}", category_words(cat)),
+            RoomRef::Smallest { cat } => format!("the smallest {}", noun(cat, rng)),
             RoomRef::Containing { cat, obj_cat } => {
-                let form = ["with the", "that has the", "containing the"]
+                let form = ["with the", "that has the", "where the {} is"]
                     .choose(rng)
                     .copied()
                     .unwrap_or("with the");
+                let o = noun(obj_cat, rng);
+                if form.contains("{}") {
+                    format!("the {} {}", noun(cat, rng), form.replace("{}", &o))
+                } else {
+                    format!("the {} {form} {o}", noun(cat, rng))
+                }
+            }
+            RoomRef::Counting { cat, obj_cat, n } => {
+                let things = plural(&lexicon::plain(obj_cat));
+                let form = ["with {n} {x}", "that has {n} {x}", "with exactly {n} {x}"]
+                    .choose(rng)
+                    .copied()
+                    .unwrap_or("with {n} {x}");
                 format!(
-                    "the {} {form} {}",
-                    category_words(cat),
-                    category_words(obj_cat)
+                    "the {} {}",
+                    noun(cat, rng),
+                    form.replace("{n}", &number_word(*n))
+                        .replace("{x}", &things)
                 )
             }
         }
     }
 
+    /// The rooms this description matches.
     pub fn resolve(&self, ix: &MapIndex<'_>) -> Vec<u32> {
         match self {
             RoomRef::Unique { cat } => ix.rooms_of_cat(cat).to_vec(),
@@ -110,8 +185,8 @@ impl RoomRef {
                     sorted.reverse();
                 }
                 match sorted.as_slice() {
-                    [] => vec![],
-                    [only] => vec![*only],
+                    // A superlative over a single room is not something a person says.
+                    [] | [_] => vec![],
                     // A near tie is ambiguous to a reader even if the numbers differ.
                     [a, b, ..] if (area(a) - area(b)).abs() < 1.0 => vec![*a, *b],
                     [a, ..] => vec![*a],
@@ -122,24 +197,38 @@ impl RoomRef {
                 .iter()
                 .copied()
                 .filter(|&r| {
-                    ix.of_cat(obj_cat)
+                    ix.all_of_cat(obj_cat)
                         .iter()
-                        .any(|&o| ix.object(o).room == Some(r))
+                        .any(|&o| ix.object_room(o) == Some(r))
                 })
+                .collect(),
+            RoomRef::Counting { cat, obj_cat, n } => ix
+                .rooms_of_cat(cat)
+                .iter()
+                .copied()
+                .filter(|&r| count_in(ix, obj_cat, r) == *n)
                 .collect(),
         }
     }
 }
 
+/// Objects of `cat` (fixtures included) in room `r`, as the compiler's `.in(r)` counts them.
+pub fn count_in(ix: &MapIndex<'_>, cat: &str, r: u32) -> usize {
+    ix.all_of_cat(cat)
+        .iter()
+        .filter(|&&o| ix.object_room(o) == Some(r))
+        .count()
+}
+
 impl ObjRef {
     pub fn depth(&self) -> u32 {
+        let room_depth = |r: &Option<RoomRef>| r.as_ref().map_or(0, RoomRef::depth);
         match self {
             ObjRef::Unique { .. } => 1,
             ObjRef::InRoom { room, .. } => 1 + room.depth(),
             ObjRef::On { parent, .. } => 1 + parent.depth(),
-            ObjRef::Nearest { room, anchor, .. } => {
-                1 + anchor.depth() + room.as_ref().map_or(0, RoomRef::depth)
-            }
+            ObjRef::Nearest { room, anchor, .. } => 1 + anchor.depth() + room_depth(room),
+            ObjRef::FromYou { room, .. } | ObjRef::NotOn { room, .. } => 2 + room_depth(room),
         }
     }
 
@@ -148,75 +237,193 @@ impl ObjRef {
             ObjRef::Unique { cat }
             | ObjRef::InRoom { cat, .. }
             | ObjRef::On { cat, .. }
-            | ObjRef::Nearest { cat, .. } => cat,
+            | ObjRef::Nearest { cat, .. }
+            | ObjRef::FromYou { cat, .. }
+            | ObjRef::NotOn { cat, .. } => cat,
         }
     }
 
+    fn room(&self) -> Option<&RoomRef> {
+        match self {
+            ObjRef::InRoom { room, .. } => Some(room),
+            ObjRef::Nearest { room, .. }
+            | ObjRef::FromYou { room, .. }
+            | ObjRef::NotOn { room, .. } => room.as_ref(),
+            _ => None,
+        }
+    }
+
+    /// Every object category the chain names, head first.
+    pub fn object_cats(&self) -> Vec<&str> {
+        let mut out = vec![self.category()];
+        if let Some(r) = self.room() {
+            out.extend(r.object_cats());
+        }
+        match self {
+            ObjRef::On { parent, .. } => out.extend(parent.object_cats()),
+            ObjRef::Nearest { anchor, .. } => out.extend(anchor.object_cats()),
+            ObjRef::NotOn { other, .. } => out.push(other),
+            _ => {}
+        }
+        out
+    }
+
+    /// Every room description in the chain.
+    pub fn rooms(&self) -> Vec<&RoomRef> {
+        let mut out: Vec<&RoomRef> = self.room().into_iter().collect();
+        match self {
+            ObjRef::On { parent, .. } => out.extend(parent.rooms()),
+            ObjRef::Nearest { anchor, .. } => out.extend(anchor.rooms()),
+            _ => {}
+        }
+        out
+    }
+
+    /// Whether the chain reads as a person would write it: no category named twice (a circular
+    /// chain), and no two rooms of one category.
+    pub fn is_natural(&self) -> bool {
+        let cats = self.object_cats();
+        let rooms: Vec<&str> = self.rooms().iter().map(|r| r.category()).collect();
+        let distinct = |v: &[&str]| {
+            let mut s = v.to_vec();
+            s.sort_unstable();
+            s.windows(2).all(|w| w[0] != w[1])
+        };
+        distinct(&cats) && distinct(&rooms)
+    }
+
     pub fn m2r(&self) -> String {
+        let set = |cat: &str, room: &Option<RoomRef>| match room {
+            Some(r) => format!("objects({cat}).in({})", r.m2r()),
+            None => format!("objects({cat})"),
+        };
         match self {
             ObjRef::Unique { cat } => format!("objects({cat}).only()"),
             ObjRef::InRoom { cat, room } => format!("objects({cat}).in({}).only()", room.m2r()),
             ObjRef::On { cat, parent } => format!("objects({cat}).on({}).only()", parent.m2r()),
-            ObjRef::Nearest { cat, room, anchor } => match room {
-                Some(room) => format!(
-                    "objects({cat}).in({}).nearest(to: {})",
-                    room.m2r(),
-                    anchor.m2r()
-                ),
-                None => format!("objects({cat}).nearest(to: {})", anchor.m2r()),
-            },
+            ObjRef::Nearest { cat, room, anchor } => {
+                format!("{}.nearest(to: {})", set(cat, room), anchor.m2r())
+            }
+            ObjRef::FromYou {
+                cat,
+                room,
+                farthest,
+            } => format!(
+                "{}.{}(start)",
+                set(cat, room),
+                if *farthest { "farthest" } else { "nearest" }
+            ),
+            ObjRef::NotOn { cat, room, other } => format!(
+                "{}.where(x => not x.on(objects({other}))).only()",
+                set(cat, room)
+            ),
         }
     }
 
-    pub fn text(&self, rng: &mut ChaCha8Rng) -> String {
+    /// The description as English. Rooms the episode has already described are referred back
+    /// to ("that bedroom") rather than described again.
+    pub fn text(&self, ix: &MapIndex<'_>, sp: &mut Speaker<'_>) -> String {
         match self {
-            ObjRef::Unique { cat } => format!("the {}", category_words(cat)),
+            ObjRef::Unique { cat } => format!("the {}", sp.noun(cat)),
             ObjRef::InRoom { cat, room } => {
-                let prep = ["in", "in", "inside"].choose(rng).copied().unwrap_or("in");
-                format!("the {} {prep} {}", category_words(cat), room.text(rng))
+                let n = sp.noun(cat);
+                let prep = ["in", "in", "inside"]
+                    .choose(sp.rng)
+                    .copied()
+                    .unwrap_or("in");
+                let r = sp.room(ix, room);
+                format!("the {n} {prep} {r}")
             }
             ObjRef::On { cat, parent } => {
+                let n = sp.noun(cat);
                 let prep = ["on", "sitting on", "on top of"]
-                    .choose(rng)
+                    .choose(sp.rng)
                     .copied()
                     .unwrap_or("on");
-                format!("the {} {prep} {}", category_words(cat), parent.text(rng))
+                let p = parent.text(ix, sp);
+                format!("the {n} {prep} {p}")
             }
             ObjRef::Nearest { cat, room, anchor } => {
-                let rel = ["nearest to", "closest to"]
-                    .choose(rng)
+                let n = sp.noun(cat);
+                let rel = ["nearest to", "closest to", "nearest the"]
+                    .choose(sp.rng)
                     .copied()
                     .unwrap_or("nearest to");
-                let anchor = anchor.text(rng);
+                let rel = if rel == "nearest the" { "nearest" } else { rel };
+                let a = anchor.text(ix, sp);
                 match room {
                     Some(room) => {
-                        let room = room.text(rng);
-                        if rng.random_bool(0.5) {
-                            format!("the {} in {room} {rel} {anchor}", category_words(cat))
+                        let r = sp.room(ix, room);
+                        if sp.rng.random_bool(0.5) {
+                            format!("the {n} in {r} {rel} {a}")
                         } else {
-                            format!("the {} {rel} {anchor} in {room}", category_words(cat))
+                            format!("the {n} {rel} {a} in {r}")
                         }
                     }
-                    None => format!("the {} {rel} {anchor}", category_words(cat)),
+                    None => format!("the {n} {rel} {a}"),
                 }
+            }
+            ObjRef::FromYou {
+                cat,
+                room,
+                farthest,
+            } => {
+                let n = sp.noun(cat);
+                let rel = if *farthest {
+                    [
+                        "farthest from you",
+                        "farthest from where you start",
+                        "farthest from your current position",
+                    ]
+                } else {
+                    [
+                        "closest to you",
+                        "nearest to where you are now",
+                        "closest to your starting position",
+                    ]
+                };
+                let rel = rel.choose(sp.rng).copied().unwrap_or(rel[0]);
+                match room {
+                    Some(room) => {
+                        let r = sp.room(ix, room);
+                        format!("the {n} in {r} {rel}")
+                    }
+                    None => format!("the {n} {rel}"),
+                }
+            }
+            ObjRef::NotOn { cat, room, other } => {
+                let n = sp.noun(cat);
+                let o = sp.noun(other);
+                let art = lexicon::article(&o);
+                let tail = match room {
+                    Some(room) => format!(" in {}", sp.room(ix, room)),
+                    None => String::new(),
+                };
+                format!("the {n}{tail} that is not on {art} {o}")
             }
         }
     }
 
-    /// The objects this description matches on the map.
-    pub fn resolve(&self, ix: &MapIndex<'_>) -> Vec<u32> {
-        match self {
-            ObjRef::Unique { cat } => ix.of_cat(cat).to_vec(),
-            ObjRef::InRoom { cat, room } => {
-                let rooms = room.resolve(ix);
-                ix.of_cat(cat)
-                    .iter()
-                    .copied()
-                    .filter(|&o| ix.object(o).room.is_some_and(|r| rooms.contains(&r)))
-                    .collect()
+    /// The objects this description matches on the map (robot-relative ones need `start`).
+    pub fn resolve(&self, ix: &MapIndex<'_>, start: Option<Cell>) -> Vec<u32> {
+        let in_rooms = |cat: &str, room: &Option<RoomRef>| -> Vec<u32> {
+            match room {
+                Some(room) => {
+                    let rooms = room.resolve(ix);
+                    ix.all_of_cat(cat)
+                        .iter()
+                        .copied()
+                        .filter(|&o| ix.object_room(o).is_some_and(|r| rooms.contains(&r)))
+                        .collect()
+                }
+                None => ix.all_of_cat(cat).to_vec(),
             }
+        };
+        match self {
+            ObjRef::Unique { cat } => ix.all_of_cat(cat).to_vec(),
+            ObjRef::InRoom { cat, room } => in_rooms(cat, &Some(room.clone())),
             ObjRef::On { cat, parent } => {
-                let parents = parent.resolve(ix);
+                let parents = parent.resolve(ix, start);
                 ix.of_cat(cat)
                     .iter()
                     .copied()
@@ -224,74 +431,111 @@ impl ObjRef {
                     .collect()
             }
             ObjRef::Nearest { cat, room, anchor } => {
-                let anchors = anchor.resolve(ix);
+                let anchors = anchor.resolve(ix, start);
                 let [a] = anchors.as_slice() else {
                     return vec![];
                 };
-                let pool: Vec<u32> = match room {
-                    Some(room) => {
-                        let rooms = room.resolve(ix);
-                        ix.of_cat(cat)
-                            .iter()
-                            .copied()
-                            .filter(|&o| ix.object(o).room.is_some_and(|r| rooms.contains(&r)))
-                            .collect()
-                    }
-                    None => ix.of_cat(cat).to_vec(),
-                };
+                let pool = in_rooms(cat, room);
                 nearest_with_margin(ix, &pool, *a).into_iter().collect()
             }
+            ObjRef::FromYou {
+                cat,
+                room,
+                farthest,
+            } => {
+                let Some(s) = start else { return vec![] };
+                let pool = in_rooms(cat, room);
+                ranked_from(ix, &pool, s, *farthest).into_iter().collect()
+            }
+            ObjRef::NotOn { cat, room, other } => in_rooms(cat, room)
+                .into_iter()
+                .filter(|&o| !ix.of_cat(other).iter().any(|&p| ix.is_on(o, p)))
+                .collect(),
         }
     }
 
     /// Number of objects of the head category: what a reader must choose among.
     pub fn candidates(&self, ix: &MapIndex<'_>) -> usize {
-        ix.of_cat(self.category()).len()
+        ix.all_of_cat(self.category()).len()
     }
 }
 
 /// The member of `pool` nearest to `anchor`, if it wins clearly under both distance definitions.
 fn nearest_with_margin(ix: &MapIndex<'_>, pool: &[u32], anchor: u32) -> Option<u32> {
     let pool: Vec<u32> = pool.iter().copied().filter(|&o| o != anchor).collect();
-    let best_by = |d: &dyn Fn(u32) -> f64| -> Option<u32> {
-        let mut scored: Vec<(f64, u32)> = pool.iter().map(|&o| (d(o), o)).collect();
-        scored.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-        match scored.as_slice() {
-            [] => None,
-            [(_, only)] => Some(*only),
-            [(d0, o), (d1, _), ..] => (*d1 >= NEAREST_MARGIN * d0.max(1.0)).then_some(*o),
-        }
-    };
-    let a = best_by(&|o| ix.center_distance(o, anchor))?;
-    let b = best_by(&|o| ix.footprint_distance(o, anchor))?;
+    let a = best_by(&pool, &|o| ix.center_distance(o, anchor), false)?;
+    let b = best_by(&pool, &|o| ix.footprint_distance(o, anchor), false)?;
     (a == b).then_some(a)
 }
 
-/// Every room description (up to `max_depth`) that singles out `room`.
+/// The member of `pool` nearest to (farthest from) the start cell, with the same margin.
+fn ranked_from(ix: &MapIndex<'_>, pool: &[u32], s: Cell, farthest: bool) -> Option<u32> {
+    let centre = |o: u32| {
+        let c = ix.object(o).center;
+        (c[0] - s.row as f64).hypot(c[1] - s.col as f64)
+    };
+    let foot = |o: u32| {
+        ix.object(o)
+            .footprint
+            .iter()
+            .map(|f| f.dist(s))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let a = best_by(pool, &centre, farthest)?;
+    let b = best_by(pool, &foot, farthest)?;
+    (a == b).then_some(a)
+}
+
+/// The best of `pool` under `d` (smallest, or largest when `largest`), if it wins by the margin.
+fn best_by(pool: &[u32], d: &dyn Fn(u32) -> f64, largest: bool) -> Option<u32> {
+    let mut scored: Vec<(f64, u32)> = pool.iter().map(|&o| (d(o), o)).collect();
+    scored.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    if largest {
+        scored.reverse();
+    }
+    match scored.as_slice() {
+        [] => None,
+        [(_, only)] => Some(*only),
+        [(d0, o), (d1, _), ..] if !largest => (*d1 >= NEAREST_MARGIN * d0.max(1.0)).then_some(*o),
+        [(d0, o), (d1, _), ..] => (*d0 >= NEAREST_MARGIN * d1.max(1.0)).then_some(*o),
+    }
+}
+
+/// Every room description (up to `max_depth`) that singles out `room`, plainest first.
 pub fn room_descriptions(ix: &MapIndex<'_>, room: u32, max_depth: u32) -> Vec<RoomRef> {
     let cat = ix.room_category(room).to_string();
+    let unique = RoomRef::Unique { cat: cat.clone() };
+    if unique.resolve(ix) == [room] {
+        // The only room of its kind needs no qualifier.
+        return vec![unique];
+    }
     let mut out = Vec::new();
     let mut push = |r: RoomRef| {
         if r.depth() <= max_depth && r.resolve(ix) == [room] {
             out.push(r);
         }
     };
-    push(RoomRef::Unique { cat: cat.clone() });
     push(RoomRef::Largest { cat: cat.clone() });
     push(RoomRef::Smallest { cat: cat.clone() });
-    if ix.rooms_of_cat(&cat).len() > 1 {
-        // Distinctive contents, deterministic order, a few at most.
-        let mut cats: Vec<&String> = ix
-            .objects_by_cat
-            .iter()
-            .filter(|(_, ids)| ids.iter().any(|&o| ix.object(o).room == Some(room)))
-            .map(|(c, _)| c)
-            .collect();
-        cats.truncate(64);
-        for oc in cats {
-            push(RoomRef::Containing {
+    // Distinctive contents, deterministic order, a few at most.
+    let mut cats: Vec<&String> = ix
+        .objects_by_cat
+        .keys()
+        .chain(ix.fixtures_by_cat.keys())
+        .filter(|c| count_in(ix, c, room) > 0)
+        .collect();
+    cats.truncate(64);
+    for oc in cats {
+        push(RoomRef::Containing {
+            cat: cat.clone(),
+            obj_cat: oc.clone(),
+        });
+        let n = count_in(ix, oc, room);
+        if (2..=4).contains(&n) {
+            push(RoomRef::Counting {
                 cat: cat.clone(),
                 obj_cat: oc.clone(),
+                n,
             });
         }
     }
@@ -321,6 +565,15 @@ pub fn describe(
     out
 }
 
+fn keep(ix: &MapIndex<'_>, id: u32, max_depth: u32, r: ObjRef, out: &mut Vec<ObjRef>) -> bool {
+    if r.depth() <= max_depth && !out.contains(&r) && r.is_natural() && r.resolve(ix, None) == [id]
+    {
+        out.push(r);
+        return true;
+    }
+    false
+}
+
 fn describe_uncached(
     ix: &MapIndex<'_>,
     id: u32,
@@ -333,24 +586,26 @@ fn describe_uncached(
     }
     let o = ix.object(id);
     let cat = o.category.clone();
-    let keep = |r: ObjRef, out: &mut Vec<ObjRef>| {
-        if r.depth() <= max_depth && !out.contains(&r) && r.resolve(ix) == [id] {
-            out.push(r);
-        }
-    };
-    keep(ObjRef::Unique { cat: cat.clone() }, &mut out);
-    let room_refs = o
-        .room
+    if keep(
+        ix,
+        id,
+        max_depth,
+        ObjRef::Unique { cat: cat.clone() },
+        &mut out,
+    ) {
+        // One of its kind: any qualifier would be noise.
+        return out;
+    }
+    let room_refs = ix
+        .object_room(id)
         .map(|r| room_descriptions(ix, r, max_depth.saturating_sub(1)))
         .unwrap_or_default();
     for room in &room_refs {
-        keep(
-            ObjRef::InRoom {
-                cat: cat.clone(),
-                room: room.clone(),
-            },
-            &mut out,
-        );
+        let r = ObjRef::InRoom {
+            cat: cat.clone(),
+            room: room.clone(),
+        };
+        keep(ix, id, max_depth, r, &mut out);
     }
     if let Some(p) = o
         .parent
@@ -359,24 +614,50 @@ fn describe_uncached(
         && max_depth >= 2
     {
         for parent in describe(ix, p.id, max_depth - 1, memo).into_iter().take(4) {
-            keep(
-                ObjRef::On {
-                    cat: cat.clone(),
-                    parent: Box::new(parent),
-                },
-                &mut out,
-            );
+            let r = ObjRef::On {
+                cat: cat.clone(),
+                parent: Box::new(parent),
+            };
+            keep(ix, id, max_depth, r, &mut out);
         }
     }
-    if max_depth >= 2 && ix.of_cat(&cat).len() > 1 {
-        // Anchors: distinct-category objects in the same room, closest first.
+    if max_depth >= 2 {
+        // Negation: the one object of its kind (in its room, when needed) not on a `other`.
+        let others: Vec<String> = ix
+            .of_cat(&cat)
+            .iter()
+            .filter_map(|&x| ix.object(x).parent.map(|p| p.id))
+            .filter_map(|p| ix.map.object(p).map(|o| o.category.clone()))
+            .collect();
+        for other in others.into_iter().take(3) {
+            let r = ObjRef::NotOn {
+                cat: cat.clone(),
+                room: None,
+                other: other.clone(),
+            };
+            if !keep(ix, id, max_depth, r, &mut out) {
+                for room in room_refs.iter().take(1) {
+                    let r = ObjRef::NotOn {
+                        cat: cat.clone(),
+                        room: Some(room.clone()),
+                        other: other.clone(),
+                    };
+                    keep(ix, id, max_depth, r, &mut out);
+                }
+            }
+        }
+        // Anchors: distinct-category objects (windows too) in the same room, closest first.
         let mut anchors: Vec<u32> = ix
             .objects_by_cat
             .iter()
+            .chain(ix.fixtures_by_cat.iter())
             .filter(|(c, _)| **c != cat)
             .flat_map(|(_, ids)| ids.iter().copied())
             .filter(|&a| {
-                o.room.is_some() && ix.object(a).room == o.room && ix.object(a).parent.is_none()
+                o.room.is_some()
+                    && ix.object_room(a) == o.room
+                    && ix.object(a).parent.is_none()
+                    && !ix.fixtures_by_cat.contains_key(&ix.object(a).category)
             })
             .collect();
         anchors.sort_by(|&a, &b| {
@@ -387,23 +668,56 @@ fn describe_uncached(
         anchors.truncate(4);
         for a in anchors {
             for anchor in describe(ix, a, max_depth - 1, memo).into_iter().take(3) {
-                keep(
-                    ObjRef::Nearest {
-                        cat: cat.clone(),
-                        room: None,
-                        anchor: Box::new(anchor.clone()),
-                    },
-                    &mut out,
-                );
+                let plain = ObjRef::Nearest {
+                    cat: cat.clone(),
+                    room: None,
+                    anchor: Box::new(anchor.clone()),
+                };
+                if keep(ix, id, max_depth, plain, &mut out) {
+                    continue;
+                }
                 for room in room_refs.iter().take(2) {
-                    keep(
-                        ObjRef::Nearest {
-                            cat: cat.clone(),
-                            room: Some(room.clone()),
-                            anchor: Box::new(anchor.clone()),
-                        },
-                        &mut out,
-                    );
+                    let r = ObjRef::Nearest {
+                        cat: cat.clone(),
+                        room: Some(room.clone()),
+                        anchor: Box::new(anchor.clone()),
+                    };
+                    keep(ix, id, max_depth, r, &mut out);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Descriptions of `id` relative to the robot at `start` ("the chair closest to you"), with a
+/// room only when the bare ranking is not clear.
+pub fn from_start(ix: &MapIndex<'_>, id: u32, start: Cell, max_depth: u32) -> Vec<ObjRef> {
+    let cat = ix.object(id).category.clone();
+    if ix.all_of_cat(&cat).len() < 2 || max_depth < 2 {
+        return vec![];
+    }
+    let mut out = Vec::new();
+    for farthest in [false, true] {
+        let r = ObjRef::FromYou {
+            cat: cat.clone(),
+            room: None,
+            farthest,
+        };
+        if r.resolve(ix, Some(start)) == [id] {
+            out.push(r);
+            continue;
+        }
+        if let Some(room) = ix.object_room(id) {
+            for rr in room_descriptions(ix, room, max_depth.saturating_sub(2)) {
+                let r = ObjRef::FromYou {
+                    cat: cat.clone(),
+                    room: Some(rr),
+                    farthest,
+                };
+                if r.depth() <= max_depth && r.is_natural() && r.resolve(ix, Some(start)) == [id] {
+                    out.push(r);
+                    break;
                 }
             }
         }
@@ -419,4 +733,50 @@ pub fn pick_description(descs: &[ObjRef], want: u32, rng: &mut ChaCha8Rng) -> Op
         .filter(|d| d.depth().abs_diff(want) == best)
         .collect();
     close.choose(rng).map(|d| (*d).clone())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn circular_and_stacked_chains_are_unnatural() {
+        let bedroom = |adj: &str| match adj {
+            "l" => RoomRef::Largest {
+                cat: "living_room".into(),
+            },
+            _ => RoomRef::Smallest {
+                cat: "living_room".into(),
+            },
+        };
+        let stacked = ObjRef::Nearest {
+            cat: "chair".into(),
+            room: Some(bedroom("s")),
+            anchor: Box::new(ObjRef::InRoom {
+                cat: "sofa".into(),
+                room: bedroom("l"),
+            }),
+        };
+        assert!(!stacked.is_natural());
+        let circular = ObjRef::Nearest {
+            cat: "sink".into(),
+            room: None,
+            anchor: Box::new(ObjRef::Nearest {
+                cat: "toilet".into(),
+                room: None,
+                anchor: Box::new(ObjRef::Unique { cat: "sink".into() }),
+            }),
+        };
+        assert!(!circular.is_natural());
+        let fine = ObjRef::Nearest {
+            cat: "chair".into(),
+            room: Some(bedroom("l")),
+            anchor: Box::new(ObjRef::Unique { cat: "sofa".into() }),
+        };
+        assert!(fine.is_natural());
+        assert_eq!(
+            fine.m2r(),
+            "objects(chair).in(rooms(living_room).largest()).nearest(to: objects(sofa).only())"
+        );
+    }
 }

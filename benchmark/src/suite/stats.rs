@@ -1,7 +1,11 @@
 //! Suite statistics in the shape of the paper's Fig. 2 and the reference
 //! `valunseen_dataset_statistics.json`: instruction length, rooms traversed, candidates before
-//! disambiguation, reference depth, hard and soft constraint counts, Easy vs Hard.
+//! disambiguation, reference depth, hard and soft constraint counts, Easy vs Hard; each axis
+//! beside the paper's value and the ratio ([`super::paper`]), and the naturalness counters
+//! ([`super::naturalness`]).
 
+use super::naturalness::Naturalness;
+use super::paper::{AXES, TOLERANCE};
 use super::{SuiteError, SuiteManifest};
 use crate::episode::GENERATION_KEY;
 use serde::Serialize;
@@ -57,6 +61,76 @@ pub struct SplitStats {
     pub soft_including_clearance_hist: BTreeMap<usize, usize>,
     /// Non-clearance soft constraints by type.
     pub soft_by_type: BTreeMap<String, usize>,
+    /// Length of the reference (shortest legal) route, metres.
+    pub reference_route_length_m: Summary,
+    pub naturalness: Naturalness,
+}
+
+impl SplitStats {
+    fn per_episode(&self, n: usize) -> f64 {
+        if self.episodes == 0 {
+            0.0
+        } else {
+            round3(n as f64 / self.episodes as f64)
+        }
+    }
+
+    fn hist_mean(h: &BTreeMap<usize, usize>) -> f64 {
+        let n: usize = h.values().sum();
+        if n == 0 {
+            return 0.0;
+        }
+        round3(h.iter().map(|(k, v)| k * v).sum::<usize>() as f64 / n as f64)
+    }
+
+    /// The value of a paper axis ([`super::paper::AXES`]) on this split.
+    pub fn axis(&self, axis: &str) -> Option<f64> {
+        let soft = |k: &str| self.per_episode(self.soft_by_type.get(k).copied().unwrap_or(0));
+        Some(match axis {
+            "words per instruction" => self.words_per_instruction.mean,
+            "rooms visited" => self.rooms_visited.mean,
+            "room transitions" => self.room_transitions.mean,
+            "candidates per reference (mean)" => self.candidates_per_reference.mean,
+            "candidates per reference (median)" => self.candidates_per_reference.median,
+            "candidates per reference (p90)" => self.candidates_per_reference.p90,
+            "ambiguity rate" => self.ambiguity_rate,
+            "depth per reference" => self.depth_per_reference.mean,
+            "episode max depth" => self.episode_max_depth.mean,
+            "must-pass per episode (incl. start)" => self.per_episode(self.must_pass),
+            "must-avoid per episode" => self.per_episode(self.must_avoid),
+            "additional hard constraints per episode" => {
+                Self::hist_mean(&self.additional_hard_hist)
+            }
+            "soft constraints per episode (incl. clearance)" => {
+                Self::hist_mean(&self.soft_including_clearance_hist)
+            }
+            "near preferences per episode" => soft("near"),
+            "far preferences per episode" => soft("far"),
+            "relative preferences per episode" => soft("relative"),
+            "path-shape preferences per episode" => soft("path_shape"),
+            "reference route length (m)" => self.reference_route_length_m.mean,
+            _ => return None,
+        })
+    }
+}
+
+/// One axis of one split beside the paper.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct VsPaper {
+    pub suite: f64,
+    pub paper: f64,
+    /// suite / paper.
+    pub ratio: f64,
+    /// Whether the ratio lies within 1 ± [`TOLERANCE`].
+    pub within_tolerance: bool,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct AxisRow {
+    pub axis: String,
+    pub source: String,
+    pub easy: VsPaper,
+    pub hard: VsPaper,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -67,6 +141,34 @@ pub struct SuiteStats {
     pub overall: SplitStats,
     pub easy: SplitStats,
     pub hard: SplitStats,
+    /// Every paper axis, Easy and Hard, with the ratio.
+    pub vs_paper: Vec<AxisRow>,
+}
+
+fn vs(suite: f64, paper: f64) -> VsPaper {
+    let ratio = if paper.abs() > 1e-12 {
+        round3(suite / paper)
+    } else {
+        0.0
+    };
+    VsPaper {
+        suite: round3(suite),
+        paper: round3(paper),
+        ratio,
+        within_tolerance: (ratio - 1.0).abs() <= TOLERANCE,
+    }
+}
+
+/// The comparison rows of a suite's statistics.
+pub fn vs_paper(easy: &SplitStats, hard: &SplitStats) -> Vec<AxisRow> {
+    AXES.iter()
+        .map(|a| AxisRow {
+            axis: a.axis.to_string(),
+            source: a.source.to_string(),
+            easy: vs(easy.axis(a.axis).unwrap_or(0.0), a.easy),
+            hard: vs(hard.axis(a.axis).unwrap_or(0.0), a.hard),
+        })
+        .collect()
 }
 
 #[derive(Default)]
@@ -84,6 +186,8 @@ struct Acc {
     additional: BTreeMap<usize, usize>,
     soft_hist: BTreeMap<usize, usize>,
     soft_by_type: BTreeMap<String, usize>,
+    length: Vec<f64>,
+    naturalness: Naturalness,
 }
 
 impl Acc {
@@ -101,6 +205,10 @@ impl Acc {
         if let Some(t) = num("room_transitions") {
             self.transitions.push(t);
         }
+        if let Some(l) = num("reference_route_length_m") {
+            self.length.push(l);
+        }
+        self.naturalness.add(generation);
         let refs = generation
             .and_then(|g| g.get("references"))
             .and_then(Value::as_array)
@@ -180,6 +288,8 @@ impl Acc {
             additional_hard_hist: self.additional.clone(),
             soft_including_clearance_hist: self.soft_hist.clone(),
             soft_by_type: self.soft_by_type.clone(),
+            reference_route_length_m: Summary::of(&self.length),
+            naturalness: self.naturalness.clone(),
         }
     }
 }
@@ -229,96 +339,73 @@ pub fn suite_stats(dir: &Path, split: &str) -> Result<SuiteStats, SuiteError> {
         }
     }
     let n = scenes.len().max(1) as f64;
+    let (easy, hard) = (easy.finish(), hard.finish());
     Ok(SuiteStats {
         scenes: scenes.len(),
         objects_per_scene: round3(objects as f64 / n),
         rooms_per_scene: round3(rooms as f64 / n),
         overall: all.finish(),
-        easy: easy.finish(),
-        hard: hard.finish(),
+        vs_paper: vs_paper(&easy, &hard),
+        easy,
+        hard,
     })
 }
 
-/// The statistics as a Markdown report, with the paper's evaluation-split values alongside.
+/// The statistics as a Markdown report: every axis beside the paper's value and the ratio, the
+/// naturalness counters, and the histograms.
 pub fn stats_markdown(s: &SuiteStats) -> String {
     let mut out = String::new();
     out.push_str(&format!(
-        "# Suite statistics\n\n{} scenes, {:.1} objects and {:.2} rooms per scene (paper: 40 scenes, 284.7 objects, 8.55 rooms).\n\n",
-        s.scenes, s.objects_per_scene, s.rooms_per_scene
+        "# Suite statistics\n\n{} scenes, {:.1} objects and {:.2} rooms per scene (paper: 40 scenes, 284.7 objects, 8.55 rooms); {} episodes ({} Easy, {} Hard; paper 700 / 300).\n\n",
+        s.scenes, s.objects_per_scene, s.rooms_per_scene, s.overall.episodes, s.easy.episodes, s.hard.episodes
     ));
-    out.push_str("| statistic | overall | easy | hard | paper (overall / easy / hard) |\n|---|---:|---:|---:|---|\n");
-    let row = |name: &str, f: &dyn Fn(&SplitStats) -> String, paper: &str| {
-        format!(
-            "| {name} | {} | {} | {} | {paper} |\n",
-            f(&s.overall),
-            f(&s.easy),
-            f(&s.hard)
-        )
+    out.push_str("| axis | Easy | paper | ratio | Hard | paper | ratio |\n|---|---:|---:|---:|---:|---:|---:|\n");
+    let mark = |v: &VsPaper| {
+        if v.within_tolerance {
+            format!("{:.2}", v.ratio)
+        } else {
+            format!("**{:.2}**", v.ratio)
+        }
     };
-    out.push_str(&row(
-        "episodes",
-        &|x| x.episodes.to_string(),
-        "1000 / 700 / 300",
-    ));
-    out.push_str(&row(
-        "words per instruction",
-        &|x| format!("{:.1}", x.words_per_instruction.mean),
-        "55.8 / 35.9 / 102.2",
-    ));
-    out.push_str(&row(
-        "rooms visited",
-        &|x| format!("{:.2}", x.rooms_visited.mean),
-        "6.59 / 4.98 / 10.34",
-    ));
-    out.push_str(&row(
-        "room transitions",
-        &|x| format!("{:.2}", x.room_transitions.mean),
-        "5.59 / 3.98 / 9.34",
-    ));
-    out.push_str(&row(
-        "candidates per reference (mean / median / p90)",
-        &|x| {
-            let c = &x.candidates_per_reference;
-            format!("{:.2} / {} / {}", c.mean, c.median, c.p90)
-        },
-        "- / 6.30, 3, 8 / 8.45, 3, 10",
-    ));
-    out.push_str(&row(
-        "ambiguity rate",
-        &|x| format!("{:.3}", x.ambiguity_rate),
-        "- / 0.819 / 0.826",
-    ));
-    out.push_str(&row(
-        "depth per reference",
-        &|x| format!("{:.2}", x.depth_per_reference.mean),
-        "- / 2.21 / 2.39",
-    ));
-    out.push_str(&row(
-        "episode max depth",
-        &|x| format!("{:.2}", x.episode_max_depth.mean),
-        "- / 2.98 / 3.82",
-    ));
-    out.push_str(&row(
-        "must-pass (incl. start)",
-        &|x| x.must_pass.to_string(),
-        "2820 / 1612 / 1208",
-    ));
-    out.push_str(&row(
-        "must-avoid",
-        &|x| x.must_avoid.to_string(),
-        "305 / 130 / 175",
-    ));
-    for kind in ["near", "far", "relative", "path_shape"] {
-        out.push_str(&row(
-            &format!("soft: {kind}"),
-            &|x| x.soft_by_type.get(kind).copied().unwrap_or(0).to_string(),
-            match kind {
-                "near" => "558 / 284 / 274",
-                "far" => "591 / 288 / 303",
-                "relative" => "224 / 126 / 98",
-                _ => "222 / 89 / 133",
-            },
+    for r in &s.vs_paper {
+        out.push_str(&format!(
+            "| {} | {:.3} | {:.3} | {} | {:.3} | {:.3} | {} |\n",
+            r.axis,
+            r.easy.suite,
+            r.easy.paper,
+            mark(&r.easy),
+            r.hard.suite,
+            r.hard.paper,
+            mark(&r.hard)
         ));
+    }
+    out.push_str(&format!(
+        "\nRatios in bold lie outside 1 ± {TOLERANCE}.\n\n## Naturalness counters (should all be 0)\n\n| counter | Easy | Hard |\n|---|---:|---:|\n"
+    ));
+    let (e, h) = (&s.easy.naturalness, &s.hard.naturalness);
+    for (name, a, b) in [
+        (
+            "stacked same-category rooms",
+            e.stacked_same_category_rooms,
+            h.stacked_same_category_rooms,
+        ),
+        (
+            "singleton superlatives",
+            e.singleton_superlatives,
+            h.singleton_superlatives,
+        ),
+        (
+            "circular references",
+            e.circular_references,
+            h.circular_references,
+        ),
+        (
+            "rooms described more than once per episode",
+            e.rooms_described_more_than_once,
+            h.rooms_described_more_than_once,
+        ),
+    ] {
+        out.push_str(&format!("| {name} | {a} | {b} |\n"));
     }
     let hist = |h: &BTreeMap<usize, usize>| {
         h.iter()

@@ -1,0 +1,84 @@
+//! Relative preferences ("stay closer to A than to B"): two objects of the room, drawn
+//! uniformly (no bias toward pairs the reference route gets wrong), both off the unavoidable
+//! path (neither by the destination nor by the leg's start), at least 2 m apart.
+//!
+//! Witness: the shortest legal route of the leg through the free floor 0.3–0.7 m from A. Kept
+//! when the witness's D_B/D_A over its scored waypoints in R beats the reference route's by
+//! [`RELATIVE_MIN_GAIN`] and by a quarter.
+
+use super::{LegCtx, ScopeRoom, in_room, mean_distance};
+use crate::suite::generate::Scene;
+use crate::suite::plan::{Pref, SoftPlan};
+use rand::seq::SliceRandom;
+use rand_chacha::ChaCha8Rng;
+
+pub const RELATIVE_MIN_GAIN: f64 = 0.3;
+const MIN_SPACING_M: f64 = 2.0;
+const TRIES: usize = 6;
+
+impl<'a> Scene<'a> {
+    pub(crate) fn place_relative(
+        &self,
+        rng: &mut ChaCha8Rng,
+        leg: &LegCtx<'_>,
+        scope: &ScopeRoom,
+    ) -> Option<SoftPlan> {
+        let ix = &self.ix;
+        let res = ix.resolution();
+        let mut pool = self.subjects(leg, scope.room);
+        pool.shuffle(rng);
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        for (i, &a) in pool.iter().enumerate() {
+            for &b in &pool[i + 1..] {
+                if ix.object(a).category != ix.object(b).category
+                    && ix.footprint_distance(a, b) * res >= MIN_SPACING_M
+                {
+                    pairs.push((a, b));
+                }
+            }
+            if pairs.len() >= 4 * TRIES {
+                break;
+            }
+        }
+        pairs.shuffle(rng);
+        for (a, b) in pairs.into_iter().take(TRIES) {
+            let (fa, fb) = (
+                ix.object(a).footprint.as_slice(),
+                ix.object(b).footprint.as_slice(),
+            );
+            let ratio = |w: &[m2rc_stdlib::grid::Cell]| {
+                let da = mean_distance(w, &[fa]);
+                let db = mean_distance(w, &[fb]);
+                (da > 1e-6).then(|| db / da)
+            };
+            let Some(r_ref) = ratio(&scope.window) else {
+                continue;
+            };
+            let via = self.band(leg, &[a], Some(scope.room), 0.3, 0.7);
+            if !via.iter().any(|&x| x) {
+                continue;
+            }
+            let Some(witness) = self.detour_via(leg, &via) else {
+                continue;
+            };
+            let Some(r_wit) = ratio(&in_room(ix, &witness, scope.room)) else {
+                continue;
+            };
+            if r_wit - r_ref >= RELATIVE_MIN_GAIN
+                && r_wit >= 1.25 * r_ref
+                && let (Some(sa), Some(sb)) = (
+                    self.subject(rng, a, scope.room),
+                    self.subject(rng, b, scope.room),
+                )
+            {
+                return Some(SoftPlan {
+                    pref: Pref::Relative(sa, sb),
+                    room: scope.room,
+                    scope: scope.scope.clone(),
+                    region: ix.room_free_cells(scope.room),
+                });
+            }
+        }
+        None
+    }
+}

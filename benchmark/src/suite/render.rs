@@ -1,0 +1,731 @@
+//! Rendering an episode plan into its three views: the Map2Route annotation, the gold `.m2r`
+//! program, and the instruction text. Each clause is realised from the same plan item as the
+//! program statement beside it, and the pair is recorded in `m2rc_generation.clauses`.
+
+use super::annotate::{
+    TIMESTAMP, avoid_json, cells_json, default_clearance, footprints_json, global_scope, round3,
+    soft_base, stage_scope, wrap,
+};
+use super::avoid::AROUND_M;
+use super::generate::{
+    Clause, Difficulty, EpisodeMeta, GeneratedEpisode, RefStat, START_RADIUS, Scene, disc,
+    room_traversal,
+};
+use super::index::MapIndex;
+use super::lexicon;
+use super::plan::{AvoidPlace, Dest, Pref, RoomScope, ShapeKind, SoftPlan, Stage, Subject};
+use super::realise::{self, Position, Speaker, sentence};
+use super::refs::{ObjRef, RoomRef};
+use crate::episode::{GENERATION_KEY, GOLD_PROGRAM_KEY};
+use m2rc_stdlib::grid::Cell;
+use rand_chacha::ChaCha8Rng;
+use serde_json::{Value, json};
+use std::collections::BTreeMap;
+
+/// What rendering accumulates.
+struct Out {
+    sentences: Vec<String>,
+    clauses: Vec<Clause>,
+    refs: Vec<RefStat>,
+    hard: Vec<Value>,
+    soft: Vec<Value>,
+    lets: Vec<String>,
+    route: Vec<String>,
+    soft_counts: BTreeMap<String, usize>,
+}
+
+impl Out {
+    /// Adds a sentence realising `program`, with the templates used since the last clause.
+    fn say(&mut self, sp: &mut Speaker<'_>, text: String, program: String) {
+        let templates = std::mem::take(&mut sp.templates);
+        self.clauses.push(Clause {
+            templates,
+            text: text.clone(),
+            program,
+        });
+        self.sentences.push(text);
+    }
+
+    fn stat(&mut self, ix: &MapIndex<'_>, role: &str, r: &ObjRef, text: &str) {
+        self.refs.push(RefStat {
+            role: role.to_string(),
+            expression: text.to_string(),
+            category: r.category().to_string(),
+            depth: r.depth(),
+            candidates: r.candidates(ix),
+            object_categories: r.object_cats().iter().map(|c| c.to_string()).collect(),
+            room_categories: r.rooms().iter().map(|x| x.category().to_string()).collect(),
+            superlative_over: r
+                .rooms()
+                .iter()
+                .filter_map(|x| x.superlative_over(ix))
+                .collect(),
+        });
+    }
+
+    fn stat_room(&mut self, ix: &MapIndex<'_>, role: &str, r: &RoomRef, text: &str) {
+        self.refs.push(RefStat {
+            role: role.to_string(),
+            expression: text.to_string(),
+            category: r.category().to_string(),
+            depth: r.depth(),
+            candidates: ix.rooms_of_cat(r.category()).len(),
+            object_categories: vec![],
+            room_categories: vec![r.category().to_string()],
+            superlative_over: r.superlative_over(ix).into_iter().collect(),
+        });
+    }
+
+    /// A reference made by a category inside a scope room ("the fridge" while in the kitchen).
+    fn stat_implied(&mut self, ix: &MapIndex<'_>, role: &str, cat: &str, text: &str) {
+        self.refs.push(RefStat {
+            role: role.to_string(),
+            expression: text.to_string(),
+            category: cat.to_string(),
+            depth: 2,
+            candidates: ix.all_of_cat(cat).len(),
+            object_categories: vec![cat.to_string()],
+            room_categories: vec![],
+            superlative_over: vec![],
+        });
+    }
+}
+
+impl<'a> Scene<'a> {
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn render(
+        &self,
+        rng: &mut ChaCha8Rng,
+        id: u32,
+        difficulty: Difficulty,
+        start: Cell,
+        stages: Vec<Stage>,
+        global_avoids: Vec<super::plan::Avoid>,
+        route: Vec<Cell>,
+    ) -> GeneratedEpisode {
+        let ix = &self.ix;
+        let mut sp = Speaker::new(rng);
+        let mut out = Out {
+            sentences: vec![],
+            clauses: vec![],
+            refs: vec![],
+            hard: vec![],
+            soft: vec![],
+            lets: vec![],
+            route: vec![],
+            soft_counts: BTreeMap::new(),
+        };
+        let start_cells: Vec<Value> = disc(start, START_RADIUS)
+            .into_iter()
+            .filter(|&c| ix.free.passable(c))
+            .map(|c| json!([c.row, c.col]))
+            .collect();
+        out.hard.push(json!({
+            "constraint_id": "start", "kind": "must_pass", "shape": "freeform",
+            "center": [start.row as f64, start.col as f64], "radius": START_RADIUS,
+            "width": 2.0 * START_RADIUS, "height": 2.0 * START_RADIUS, "order": 1, "source": "custom",
+            "object_id": null, "scope": global_scope(), "label": "start", "cells": start_cells,
+        }));
+        let n = stages.len();
+        let mut objects_json: Vec<Value> = Vec::new();
+        let (mut avoid_no, mut soft_no) = (0usize, 0usize);
+        // Texts and program expressions of the destinations, rendered first so a pair can be
+        // stated out of order.
+        // Destinations are described in the order the instruction mentions them, so a room is
+        // described where it first appears and referred back to afterwards.
+        let mut dests: Vec<Option<(String, String, String)>> = vec![None; n];
+        let mut skip_dest_sentence = vec![false; n];
+        for (k, stage) in stages.iter().enumerate() {
+            let order = k as u32 + 2;
+            let var = format!("t{}", k + 1);
+            if dests[k].is_none() {
+                dests[k] = Some(self.dest_text(&mut sp, &mut out, k, stage));
+            }
+            let (text, m2r, short) = dests[k].clone().unwrap_or_default();
+            let (text, m2r, short) = (&text, &m2r, &short);
+            out.lets.push(format!("let {var} = {m2r}"));
+            if !skip_dest_sentence[k] {
+                let pos = match (n, k) {
+                    (1, _) => Position::Only,
+                    (_, 0) => Position::First,
+                    (n, k) if k + 1 == n => Position::Last,
+                    _ => Position::Middle,
+                };
+                let pair = k + 1 < n
+                    && matches!(stage.dest, Dest::Object { .. })
+                    && matches!(stages[k + 1].dest, Dest::Object { .. })
+                    && stage.softs.is_empty()
+                    && stage.avoids.is_empty()
+                    && matches!(pos, Position::First | Position::Only)
+                    && sp.chance(0.3);
+                let s = if pair {
+                    skip_dest_sentence[k + 1] = true;
+                    let next = self.dest_text(&mut sp, &mut out, k + 1, &stages[k + 1]);
+                    let s = realise::before_pair(&mut sp, text, &next.0);
+                    dests[k + 1] = Some(next);
+                    s
+                } else if matches!(stage.dest, Dest::Conditional { .. }) {
+                    text.clone()
+                } else {
+                    realise::destination(&mut sp, pos, text)
+                };
+                let prog = if pair {
+                    format!("go {var}\ngo t{}", k + 2)
+                } else {
+                    format!("go {var}")
+                };
+                out.say(&mut sp, s, prog);
+            }
+            let (center, radius) = (stage.center, stage.radius);
+            let target_id = match &stage.dest {
+                Dest::Object { id, .. } | Dest::Conditional { id, .. } => json!(id),
+                _ => Value::Null,
+            };
+            out.hard.push(json!({
+                "constraint_id": format!("target_{}", k + 1), "kind": "must_pass", "shape": "freeform",
+                "center": center, "radius": radius, "width": 2.0 * radius, "height": 2.0 * radius,
+                "order": order, "source": if target_id.is_null() { "custom" } else { "template_object" },
+                "object_id": target_id, "scope": global_scope(), "label": text,
+                "cells": cells_json(ix, &stage.goal),
+            }));
+            let first = stage.anchor_objects[0];
+            let o = ix.object(first);
+            objects_json.push(json!({
+                "order": k + 1, "object_id": first, "name": o.name, "category": o.category,
+                "center": [round3(center[0]), round3(center[1])],
+            }));
+            let leg_phrase = |sp: &mut Speaker<'_>| {
+                if n > 1 {
+                    realise::leg(sp, short)
+                } else {
+                    sp.pick(
+                        "leg.only",
+                        &["on the way there", "along the way", "on your way"],
+                    )
+                    .to_string()
+                }
+            };
+            let mut body: Vec<String> = Vec::new();
+            for avoid in &stage.avoids {
+                avoid_no += 1;
+                let (t, m2r, kind) = self.avoid_text(&mut sp, &mut out, &avoid.place);
+                let l = leg_phrase(&mut sp);
+                let s = realise::avoid(&mut sp, kind, &t, Some(&l));
+                out.say(&mut sp, s, format!("avoid {m2r}"));
+                out.hard.push(avoid_json(
+                    ix,
+                    avoid_no,
+                    &avoid.cells,
+                    &t,
+                    stage_scope(order),
+                ));
+                body.push(format!("avoid {m2r}"));
+            }
+            for soft in &stage.softs {
+                soft_no += 1;
+                *out.soft_counts.entry(soft.kind().to_string()).or_default() += 1;
+                let l = leg_phrase(&mut sp);
+                let (json, line) =
+                    self.soft(&mut sp, &mut out, soft, &var, short, order, soft_no, &l, n);
+                out.soft.push(json);
+                body.push(line);
+            }
+            if body.is_empty() {
+                out.route.push(format!("  go {var}"));
+            } else {
+                out.route.push(format!("  go {var} {{"));
+                out.route.extend(body.iter().map(|b| format!("    {b}")));
+                out.route.push("  }".to_string());
+            }
+        }
+        for avoid in &global_avoids {
+            avoid_no += 1;
+            let (t, m2r, kind) = self.avoid_text(&mut sp, &mut out, &avoid.place);
+            let s = realise::avoid(&mut sp, kind, &t, None);
+            out.say(&mut sp, s, format!("avoid {m2r}"));
+            out.hard
+                .push(avoid_json(ix, avoid_no, &avoid.cells, &t, global_scope()));
+            out.route.push(format!("  avoid {m2r}"));
+        }
+        out.soft.push(default_clearance());
+        self.finish(
+            sp,
+            out,
+            id,
+            difficulty,
+            start,
+            n,
+            avoid_no,
+            objects_json,
+            route,
+        )
+    }
+
+    /// (text, program expression, short anaphoric name) of a destination.
+    fn dest_text(
+        &self,
+        sp: &mut Speaker<'_>,
+        out: &mut Out,
+        k: usize,
+        stage: &Stage,
+    ) -> (String, String, String) {
+        let ix = &self.ix;
+        let role = format!("destination {}", k + 1);
+        match &stage.dest {
+            Dest::Object { id, desc } => {
+                let t = desc.text(ix, sp);
+                out.stat(ix, &role, desc, &t);
+                let short = format!("the {}", lexicon::plain(&ix.object(*id).category));
+                (t, desc.m2r(), short)
+            }
+            Dest::Conditional {
+                id,
+                room,
+                cond_cat,
+                holds,
+                then_desc,
+                else_desc,
+            } => {
+                let r = sp.room(ix, room);
+                out.stat_room(ix, &role, room, &r);
+                let thing = lexicon::plain(cond_cat);
+                let other_cat = else_desc.category();
+                let other = format!(
+                    "the {} {}",
+                    sp.noun(other_cat),
+                    sp.pick("if.there", &["there", "in that room", "instead"])
+                );
+                let live = if *holds { then_desc } else { else_desc };
+                out.stat(ix, &role, live, &format!("the {}", live.category()));
+                let s = realise::conditional(sp, &r, &thing, &other);
+                let m2r = format!(
+                    "if objects({cond_cat}).in({}).exists() {{ {} }} else {{ {} }}",
+                    room.m2r(),
+                    then_desc.m2r(),
+                    else_desc.m2r()
+                );
+                let short = format!("the {}", lexicon::plain(&ix.object(*id).category));
+                (s, m2r, short)
+            }
+            Dest::Corner {
+                room,
+                room_ref,
+                anchor,
+            } => {
+                let r = sp.room_id(ix, *room, Some(room_ref));
+                out.stat_room(ix, &role, room_ref, &r);
+                let a = anchor.text(ix, sp);
+                out.stat(ix, &role, anchor, &a);
+                let rel = sp.pick("corner", &["nearest to", "closest to", "next to"]);
+                let t = format!("the corner of {r} {rel} {a}");
+                let m2r = format!("{}.corners().nearest(to: {})", room_ref.m2r(), anchor.m2r());
+                (t, m2r, "that corner".into())
+            }
+            Dest::Between { a, b } => {
+                let ta = a.text(ix, sp);
+                let tb = b.text(ix, sp);
+                out.stat(ix, &role, a, &ta);
+                out.stat(ix, &role, b, &tb);
+                let form = sp.pick(
+                    "between",
+                    &[
+                        "the small area between {a} and {b}",
+                        "the spot between {a} and {b}",
+                    ],
+                );
+                let t = realise::fill(form, &[("a", &ta), ("b", &tb)]);
+                (
+                    t,
+                    format!("area_between({}, {})", a.m2r(), b.m2r()),
+                    "that spot".into(),
+                )
+            }
+        }
+    }
+
+    /// (text, program, kind) of a must-avoid's place.
+    fn avoid_text(
+        &self,
+        sp: &mut Speaker<'_>,
+        out: &mut Out,
+        place: &AvoidPlace,
+    ) -> (String, String, &'static str) {
+        let ix = &self.ix;
+        match place {
+            AvoidPlace::Room(r) => {
+                let t = sp.room(ix, r);
+                out.stat_room(ix, "must-avoid", r, &t);
+                (t, r.m2r(), "room")
+            }
+            AvoidPlace::Around(x) => {
+                let t = x.text(ix, sp);
+                out.stat(ix, "must-avoid", x, &t);
+                (
+                    t,
+                    format!("area_near({}, within: {AROUND_M:.1}m)", x.m2r()),
+                    "around",
+                )
+            }
+            AvoidPlace::Between(a, b) => {
+                let (ta, tb) = (a.text(ix, sp), b.text(ix, sp));
+                out.stat(ix, "must-avoid", a, &ta);
+                out.stat(ix, "must-avoid", b, &tb);
+                (
+                    format!("{ta} and {tb}"),
+                    format!("area_between({}, {})", a.m2r(), b.m2r()),
+                    "between",
+                )
+            }
+        }
+    }
+
+    /// The program expression and the words for a scope room R.
+    fn scope(
+        &self,
+        sp: &mut Speaker<'_>,
+        out: &mut Out,
+        soft: &SoftPlan,
+        var: &str,
+        short: &str,
+    ) -> (String, String) {
+        let ix = &self.ix;
+        let dest_room = |sp: &mut Speaker<'_>| {
+            if sp.knows_room(soft.room) {
+                sp.room_id(ix, soft.room, None)
+            } else {
+                let t = sp.pick("room.of", &["the room with {d}", "the room where {d} is"]);
+                realise::fill(t, &[("d", short)])
+            }
+        };
+        match &soft.scope {
+            RoomScope::Destination => {
+                let r = dest_room(sp);
+                let t = sp.pick(
+                    "scope.dest",
+                    &["once you are in {r}", "in {r}", "when you enter {r}"],
+                );
+                (format!("{var}.room()"), realise::fill(t, &[("r", &r)]))
+            }
+            RoomScope::Start => {
+                let t = sp.pick(
+                    "scope.start",
+                    &[
+                        "while you are still in the starting room",
+                        "before you leave the room you start in",
+                        "in the room you start in",
+                    ],
+                );
+                ("start.room()".into(), t.to_string())
+            }
+            RoomScope::Before => {
+                let r = dest_room(sp);
+                let t = sp.pick(
+                    "scope.before",
+                    &[
+                        "in the room just before {r}",
+                        "in the room right before you enter {r}",
+                    ],
+                );
+                (
+                    format!("room_before_entering({var}.room())"),
+                    realise::fill(t, &[("r", &r)]),
+                )
+            }
+            RoomScope::Crossed(rr) => {
+                let r = sp.room(ix, rr);
+                out.stat_room(ix, "scope", rr, &r);
+                let t = sp.pick(
+                    "scope.cross",
+                    &[
+                        "as you pass through {r}",
+                        "when you cross {r}",
+                        "while in {r}",
+                    ],
+                );
+                (rr.m2r(), realise::fill(t, &[("r", &r)]))
+            }
+        }
+    }
+
+    /// (text, program) of a preference subject measured in scope `s`.
+    fn subject_text(
+        &self,
+        sp: &mut Speaker<'_>,
+        out: &mut Out,
+        x: &Subject,
+        s: &str,
+        role: &str,
+    ) -> (String, String) {
+        let ix = &self.ix;
+        match x {
+            Subject::One(o, None) => {
+                let cat = &ix.object(*o).category;
+                let t = format!("the {}", sp.noun(cat));
+                out.stat_implied(ix, role, cat, &t);
+                (t, format!("objects({cat}).in({s}).only()"))
+            }
+            Subject::One(_, Some(d)) => {
+                let t = d.text(ix, sp);
+                out.stat(ix, role, d, &t);
+                (t, d.m2r())
+            }
+            Subject::All { cat, .. } => {
+                let p = lexicon::plural(&lexicon::plain(cat));
+                let t = sp.pick("all", &["the {p}", "all the {p}", "any of the {p}"]);
+                let t = realise::fill(t, &[("p", &p)]);
+                out.stat_implied(ix, role, cat, &t);
+                (t, format!("objects({cat}).in({s})"))
+            }
+        }
+    }
+
+    /// One stage-scoped preference: its annotation, its program line, and its sentence.
+    #[allow(clippy::too_many_arguments)]
+    fn soft(
+        &self,
+        sp: &mut Speaker<'_>,
+        out: &mut Out,
+        soft: &SoftPlan,
+        var: &str,
+        short: &str,
+        order: u32,
+        no: usize,
+        leg: &str,
+        stages: usize,
+    ) -> (Value, String) {
+        let ix = &self.ix;
+        let role = format!("{} preference", soft.kind());
+        let label = format!("{} in room {}", soft.kind(), soft.room);
+        if let Pref::Shape(shape) = &soft.pref {
+            let mut c = soft_base(
+                no,
+                "path_shape_preference",
+                stage_scope(order),
+                &label,
+                ix,
+                &shape.area,
+            );
+            let ring: Vec<Value> = shape
+                .reference
+                .iter()
+                .map(|c| json!([c.row, c.col]))
+                .collect();
+            let dir = if shape.clockwise {
+                "clockwise"
+            } else {
+                "counterclockwise"
+            };
+            let (text, line, kind) = match shape.kind {
+                ShapeKind::Circle => {
+                    let (o, desc) = shape.object.clone().expect("a circle has an object");
+                    let (t, m2r) = match &desc {
+                        Some(d) => {
+                            let t = d.text(ix, sp);
+                            out.stat(ix, &role, d, &t);
+                            (t, d.m2r())
+                        }
+                        None => {
+                            let cat = &ix.object(o).category;
+                            let t = format!("the {}", sp.noun(cat));
+                            out.stat_implied(ix, &role, cat, &t);
+                            let room = self.room_expr(soft, var);
+                            (t, format!("objects({cat}).in({room}).only()"))
+                        }
+                    };
+                    c["object_ids"] = json!([o]);
+                    c["reference_region"] = json!({"mode": "object", "object_id": o, "cells": footprints_json(ix, &[o])});
+                    let s = realise::circle(sp, &t, shape.clockwise);
+                    let s = if sp.chance(0.5) {
+                        format!("{leg}, {s}")
+                    } else {
+                        s
+                    };
+                    (
+                        sentence(&s),
+                        format!(
+                            "prefer circle({m2r}, {dir}) within area_near({m2r}, within: {:.2}m)",
+                            shape.within_m
+                        ),
+                        "circle",
+                    )
+                }
+                ShapeKind::Patrol => (
+                    sentence(&realise::patrol(sp, shape.clockwise)),
+                    format!("prefer patrol(start.room(), {dir}) within start.room()"),
+                    "patrol",
+                ),
+                ShapeKind::FollowWall => (
+                    sentence(&realise::follow_wall(sp, shape.clockwise)),
+                    format!("prefer follow_wall(start.room(), {dir}) within start.room()"),
+                    "follow_wall",
+                ),
+            };
+            c["reference_waypoint_count"] = json!(ring.len());
+            c["reference_trajectory"] = json!(ring.clone());
+            c["path_shape_annotation"] = json!({
+                "version": 1, "annotation_type": "canonical_path_shape_reference",
+                "shape_spec": {"type": kind, "direction": dir, "ordered_control_points": ring.clone()},
+                "shape_reference_trajectory": ring, "shape_reference_source": format!("m2rc_canonical_{kind}_v3"),
+                "annotator_id": "m2rc-suite",
+                "notes": "generated: the language's shape (circle: radius half the larger extent + 0.45 m about the centroid; patrol / follow_wall: the stdlib's wall loop waypoints joined by shortest paths, a patrol ending at the doorway the reference route leaves by), from the stage start",
+                "created_at": TIMESTAMP, "updated_at": TIMESTAMP, "history": [],
+            });
+            out.say(sp, text, line.clone());
+            return (c, line);
+        }
+        let (s_m2r, s_text) = self.scope(sp, out, soft, var, short);
+        let (kind, pref_text, pref_m2r, ids): (&str, String, String, Vec<Vec<u32>>) =
+            match &soft.pref {
+                Pref::Near(x) => {
+                    let (t, m) = self.subject_text(sp, out, x, &s_m2r, &role);
+                    (
+                        "near_preference",
+                        realise::near(sp, &t),
+                        format!("near({m})"),
+                        vec![x.ids()],
+                    )
+                }
+                Pref::Far(x) => {
+                    let (t, m) = self.subject_text(sp, out, x, &s_m2r, &role);
+                    (
+                        "far_preference",
+                        realise::far(sp, &t),
+                        format!("far({m})"),
+                        vec![x.ids()],
+                    )
+                }
+                Pref::Relative(a, b) => {
+                    let (ta, ma) = self.subject_text(sp, out, a, &s_m2r, &role);
+                    let (tb, mb) = self.subject_text(sp, out, b, &s_m2r, &role);
+                    (
+                        "relative_preference",
+                        realise::relative(sp, &ta, &tb),
+                        format!("closer({ma}, {mb})"),
+                        vec![a.ids(), b.ids()],
+                    )
+                }
+                Pref::Shape(_) => unreachable!("handled above"),
+            };
+        let mut c = soft_base(no, kind, stage_scope(order), &label, ix, &soft.region);
+        if let [one] = ids.as_slice() {
+            c["object_ids"] = json!(one);
+            c["reference_region"] =
+                json!({"mode": "object", "object_id": one[0], "cells": footprints_json(ix, one)});
+        } else {
+            c["object_ids"] = json!([ids[0][0], ids[1][0]]);
+            c["reference_regions"] = json!([
+                {"object_id": ids[0][0], "cells": footprints_json(ix, &ids[0])},
+                {"object_id": ids[1][0], "cells": footprints_json(ix, &ids[1])},
+            ]);
+        }
+        let with_leg = stages > 1 && soft.scope != RoomScope::Start && sp.chance(0.5);
+        let shape = sp.pick("soft.shape", &["{s}, {p}", "{p} {s}", "{s}, {p}"]);
+        let mut s = realise::fill(shape, &[("s", &s_text), ("p", &pref_text)]);
+        if with_leg {
+            s = format!("{leg}, {s}");
+        }
+        let line = format!("prefer {pref_m2r} within {s_m2r}");
+        out.say(sp, sentence(&s), line.clone());
+        (c, line)
+    }
+
+    fn room_expr(&self, soft: &SoftPlan, var: &str) -> String {
+        match &soft.scope {
+            RoomScope::Destination => format!("{var}.room()"),
+            RoomScope::Start => "start.room()".into(),
+            RoomScope::Before => format!("room_before_entering({var}.room())"),
+            RoomScope::Crossed(rr) => rr.m2r(),
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        &self,
+        sp: Speaker<'_>,
+        out: Out,
+        id: u32,
+        difficulty: Difficulty,
+        start: Cell,
+        n_stages: usize,
+        avoid_no: usize,
+        objects_json: Vec<Value>,
+        route: Vec<Cell>,
+    ) -> GeneratedEpisode {
+        let ix = &self.ix;
+        let instruction = out.sentences.join(" ");
+        let mut program = format!("// map: {}\n", self.map_key);
+        for line in wrap(&format!("\"{instruction}\""), 96) {
+            program.push_str(&format!("// {line}\n"));
+        }
+        for l in &out.lets {
+            program.push_str(l);
+            program.push('\n');
+        }
+        program.push_str("\nroute {\n");
+        for l in &out.route {
+            program.push_str(l);
+            program.push('\n');
+        }
+        program.push_str("}\n");
+        let (rooms_visited, room_transitions) = room_traversal(ix, &route);
+        let length_cells: f64 = route.windows(2).map(|w| w[0].dist(w[1])).sum();
+        let meta = EpisodeMeta {
+            max_depth: out.refs.iter().map(|r| r.depth).max().unwrap_or(0),
+            max_candidates: out.refs.iter().map(|r| r.candidates).max().unwrap_or(0),
+            references: out.refs,
+            destinations: n_stages,
+            must_avoid: avoid_no,
+            soft: out.soft_counts,
+            rooms_visited,
+            room_transitions,
+            reference_route_length_m: round3(length_cells * ix.resolution()),
+            room_descriptions: sp.room_full.clone(),
+            clauses: out.clauses,
+        };
+        let ordering = (1..=n_stages)
+            .map(|k| format!("obj{k}"))
+            .collect::<Vec<_>>()
+            .join(" -> ");
+        let mut instruction_json = json!({
+            "id": id,
+            "map_id": self.map_key,
+            "template_instruction_id": format!("m2rc_{:06}", id),
+            "object_count": n_stages,
+            "objects": objects_json,
+            "human_expert_trajectory": [],
+            "start_pose": {"row": start.row, "col": start.col},
+            "feasible": true,
+            "name": format!("instruction_{id:06}"),
+            "notes": "generated by m2rc suite build; no human demonstration",
+            "created_by": "m2rc-suite",
+            "hard_constraints": out.hard,
+            "soft_constraints": out.soft,
+            "ordering": ordering,
+            "difficulty_level": difficulty.as_str(),
+            "created_at": TIMESTAMP,
+            "updated_at": TIMESTAMP,
+            "instruction": instruction,
+        });
+        let mut generation = json!({
+            "generator": "m2rc-suite",
+            "version": env!("CARGO_PKG_VERSION"),
+            "template": format!("m2rc-suite/{}", difficulty.as_str()),
+        });
+        if let (Some(g), Value::Object(m)) = (
+            generation.as_object_mut(),
+            serde_json::to_value(&meta).expect("meta serializes"),
+        ) {
+            g.extend(m);
+        }
+        instruction_json[GOLD_PROGRAM_KEY] = json!(program);
+        instruction_json[GENERATION_KEY] = generation;
+        GeneratedEpisode {
+            id,
+            difficulty,
+            instruction: instruction_json,
+            meta,
+            program,
+            reference_route: route,
+        }
+    }
+}
