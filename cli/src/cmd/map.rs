@@ -27,7 +27,8 @@ pub enum MapCommand {
 /// Where the map comes from and how a house is turned into a grid.
 #[derive(Args)]
 pub struct SourceArgs {
-    /// A ProcTHOR house (.json, or .jsonl/.jsonl.gz with --index), a Map2Route map, or `demo`.
+    /// A ProcTHOR house (.json, or .jsonl/.jsonl.gz with --index), a Map2Route map, `demo`, or
+    /// `-` (standard input).
     pub map: String,
     /// Which house of a .jsonl(.gz) file, 0-based.
     #[arg(long)]
@@ -107,7 +108,13 @@ fn load(src: &SourceArgs) -> Result<(MapDocument, SourceKind)> {
             map_id: None,
         },
     };
-    Ok(load_map_with(&src.map, &opts)?)
+    let staged = crate::io::MapArg::new(&src.map)?;
+    let mut opts = opts;
+    if staged.is_stdin() && opts.import.map_id.is_none() {
+        opts.import.map_id = Some("stdin".into());
+    }
+    load_map_with(&staged.arg, &opts)
+        .map_err(|e| crate::io::unusable(anyhow::Error::new(e).context(format!("cannot load map `{}`", src.map))))
 }
 
 fn import(args: ImportArgs) -> Result<ExitCode> {
