@@ -5,7 +5,7 @@
 //! each atomically, so a failing program never leaves a partial output behind.
 
 use crate::io::{display_name, read_to_string, unusable, write_atomic};
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::pipeline::{CompiledRoute, PipelineOptions, compile_and_plan, stage_ends};
@@ -151,9 +151,11 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         Some(m) => m,
         None => match map_line(&source) {
             Some(m) => resolve_map(m, &args.file),
-            None => bail!(
-                "no map: pass `--map <map.json|demo>` or start {file_name} with `// map: <path|demo>`"
-            ),
+            None => {
+                return Err(unusable(anyhow::anyhow!(
+                    "no map: pass `--map <map.json|demo>` or start {file_name} with `// map: <path|demo>`"
+                )));
+            }
         },
     };
     let (map, kind) = crate::io::load_map_kind(&map_arg)?;
