@@ -89,11 +89,18 @@ mod tests {
         let link = tmp.path().join("link.json");
         std::os::unix::fs::symlink("real.json", &link).unwrap();
         write_atomic(&link, b"new").unwrap();
-        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
         assert_eq!(std::fs::read(&real).unwrap(), b"new");
         let err = write_atomic(tmp.path(), b"x").unwrap_err().to_string();
         assert!(err.contains("is a directory"), "{err}");
-        let err = write_atomic(Path::new("/dev/null"), b"x").unwrap_err().to_string();
+        let err = write_atomic(Path::new("/dev/null"), b"x")
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("not a regular file"), "{err}");
     }
 }

@@ -21,7 +21,10 @@ pub fn check_episode(ep: &Episode, n: Option<usize>, file: &str) -> Result<(), E
             if c[0] < 0 || c[1] < 0 {
                 return Err(err(
                     format!("{path}[{i}]"),
-                    format!("cell [{}, {}] is negative; cells are [row, col] from 0", c[0], c[1]),
+                    format!(
+                        "cell [{}, {}] is negative; cells are [row, col] from 0",
+                        c[0], c[1]
+                    ),
                 ));
             }
             if let Some(n) = n
@@ -51,9 +54,10 @@ pub fn check_episode(ep: &Episode, n: Option<usize>, file: &str) -> Result<(), E
     };
     let size = |x: Option<f64>, path: String| -> Result<(), EpisodeError> {
         match x {
-            Some(x) if !x.is_finite() || x < 0.0 => {
-                Err(err(path, format!("{x} is not a non-negative size in cells")))
-            }
+            Some(x) if !x.is_finite() || x < 0.0 => Err(err(
+                path,
+                format!("{x} is not a non-negative size in cells"),
+            )),
             _ => Ok(()),
         }
     };
@@ -153,11 +157,20 @@ mod tests {
 
     #[test]
     fn bad_cells_orders_and_types_are_named() {
-        let e = ep(r#"{"hard_constraints": [{"kind": "must_pass", "shape": "freeform", "order": 1, "cells": [[3, 400]]}]}"#);
+        let e = ep(
+            r#"{"hard_constraints": [{"kind": "must_pass", "shape": "freeform", "order": 1, "cells": [[3, 400]]}]}"#,
+        );
         check_episode(&e, None, "ep.json").unwrap();
-        let m = check_episode(&e, Some(100), "ep.json").unwrap_err().to_string();
-        assert!(m.contains("hard_constraints[0].cells[0]") && m.contains("outside the 100x100"), "{m}");
-        let e = ep(r#"{"hard_constraints": [{"kind": "must_pass", "shape": "freeform", "order": -1, "cells": []}]}"#);
+        let m = check_episode(&e, Some(100), "ep.json")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            m.contains("hard_constraints[0].cells[0]") && m.contains("outside the 100x100"),
+            "{m}"
+        );
+        let e = ep(
+            r#"{"hard_constraints": [{"kind": "must_pass", "shape": "freeform", "order": -1, "cells": []}]}"#,
+        );
         let m = check_episode(&e, None, "ep.json").unwrap_err().to_string();
         assert!(m.contains("order -1"), "{m}");
         let e = ep(r#"{"soft_constraints": [{"preference_type": "nearish"}]}"#);
@@ -167,10 +180,18 @@ mod tests {
 
     #[test]
     fn integral_floats_are_read_as_cells() {
-        let e = ep(r#"{"hard_constraints": [{"kind": "must_pass", "shape": "freeform", "order": 1.0, "cells": [[223.0, 117.0]]}]}"#);
-        assert_eq!(e.hard_constraints[0].cells.as_deref(), Some(&[[223, 117]][..]));
+        let e = ep(
+            r#"{"hard_constraints": [{"kind": "must_pass", "shape": "freeform", "order": 1.0, "cells": [[223.0, 117.0]]}]}"#,
+        );
+        assert_eq!(
+            e.hard_constraints[0].cells.as_deref(),
+            Some(&[[223, 117]][..])
+        );
         // The written file keeps the source spelling.
-        assert_eq!(e.to_value()["hard_constraints"][0]["cells"][0][0].as_f64(), Some(223.0));
+        assert_eq!(
+            e.to_value()["hard_constraints"][0]["cells"][0][0].as_f64(),
+            Some(223.0)
+        );
         assert!(e.to_value()["hard_constraints"][0]["cells"][0][0].is_f64());
     }
 }

@@ -2,8 +2,8 @@
 pub mod atomic;
 pub mod episode;
 pub mod episode_check;
-pub mod methods;
 pub mod limits;
+pub mod methods;
 pub mod metrics;
 pub mod pipeline;
 pub mod report;

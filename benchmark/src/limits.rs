@@ -45,8 +45,11 @@ mod tests {
 
     #[test]
     fn programs_past_the_limits_are_refused() {
-        assert!(check_program_size("route { go rooms(kitchen).first() }").is_ok());
-        let many = format!("route {{\n{}}}\n", "  go rooms(kitchen).first()\n".repeat(MAX_STAGES + 1));
+        assert!(check_program_size("route { go rooms(kitchen).only() }").is_ok());
+        let many = format!(
+            "route {{\n{}}}\n",
+            "  go rooms(kitchen).only()\n".repeat(MAX_STAGES + 1)
+        );
         let m = check_program_size(&many).unwrap_err();
         assert!(m.contains("201 stages"), "{m}");
         let big = "// x\n".repeat(MAX_PROGRAM_BYTES);

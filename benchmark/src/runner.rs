@@ -10,9 +10,9 @@
 //!   with no coordination; [`merge`] combines the shard directories.
 
 use crate::episode::Episode;
+use crate::methods::{Method, PreparedMap, start_cell};
 use crate::rundir::record::{self, Expected, RecordFile};
 use crate::rundir::{Fingerprint, RunLock};
-use crate::methods::{Method, PreparedMap, start_cell};
 use crate::suite::{EpisodeEntry, SuiteManifest};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use m2rc_stdlib::grid::Cell;

@@ -99,8 +99,13 @@ fn parse(bytes: &[u8]) -> Result<Message, Value> {
     let value: Value = serde_json::from_slice(bytes)
         .map_err(|e| error(Value::Null, -32700, &format!("parse error: {e}")))?;
     let id = value.get("id").cloned().unwrap_or(Value::Null);
-    serde_json::from_value(value)
-        .map_err(|e| error(id, -32600, &format!("not a JSON-RPC request, response or notification: {e}")))
+    serde_json::from_value(value).map_err(|e| {
+        error(
+            id,
+            -32600,
+            &format!("not a JSON-RPC request, response or notification: {e}"),
+        )
+    })
 }
 
 enum Frame {
@@ -159,13 +164,19 @@ mod tests {
     #[test]
     fn frames_are_bounded_and_bad_bodies_get_errors() {
         let mut input: &[u8] = b"Content-Length: 999999999999\r\n\r\n";
-        assert!(matches!(read_frame(&mut input), Frame::TooLarge(999999999999)));
+        assert!(matches!(
+            read_frame(&mut input),
+            Frame::TooLarge(999999999999)
+        ));
         let mut input: &[u8] = b"Content-Length: 3\r\n\r\n{x}";
         let Frame::Body(b) = read_frame(&mut input) else {
             panic!("a body")
         };
         assert_eq!(parse(&b).unwrap_err()["error"]["code"], -32700);
-        assert_eq!(parse(br#"{"method": 4}"#).unwrap_err()["error"]["code"], -32600);
+        assert_eq!(
+            parse(br#"{"method": 4}"#).unwrap_err()["error"]["code"],
+            -32600
+        );
         let mut input: &[u8] = b"Content-Type: x\r\n\r\n";
         assert!(matches!(read_frame(&mut input), Frame::Broken(_)));
     }

@@ -91,7 +91,12 @@ mod tests {
     use clap::CommandFactory;
 
     /// Every subcommand path (`bench merge`), and each argument without a description.
-    fn walk(cmd: &clap::Command, path: &str, subs: &mut Vec<String>, undocumented: &mut Vec<String>) {
+    fn walk(
+        cmd: &clap::Command,
+        path: &str,
+        subs: &mut Vec<String>,
+        undocumented: &mut Vec<String>,
+    ) {
         for arg in cmd.get_arguments() {
             let id = arg.get_id().as_str();
             if id == "help" || id == "version" {
@@ -114,7 +119,10 @@ mod tests {
     fn every_flag_has_a_description_and_readme_lists_every_subcommand() {
         let (mut subs, mut undocumented) = (Vec::new(), Vec::new());
         walk(&super::Cli::command(), "m2rc", &mut subs, &mut undocumented);
-        assert!(undocumented.is_empty(), "arguments without --help text: {undocumented:?}");
+        assert!(
+            undocumented.is_empty(),
+            "arguments without --help text: {undocumented:?}"
+        );
         let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
             .expect("README.md");
         let table: String = readme
@@ -122,8 +130,14 @@ mod tests {
             .filter(|l| l.starts_with("| `m2rc"))
             .collect::<Vec<_>>()
             .join("\n");
-        let missing: Vec<&String> = subs.iter().filter(|s| !table.contains(s.as_str())).collect();
-        assert!(missing.is_empty(), "README's command table lacks {missing:?}");
+        let missing: Vec<&String> = subs
+            .iter()
+            .filter(|s| !table.contains(s.as_str()))
+            .collect();
+        assert!(
+            missing.is_empty(),
+            "README's command table lacks {missing:?}"
+        );
     }
 
     #[test]

@@ -14,7 +14,20 @@ fn first() -> (String, String, PathBuf, PathBuf, PathBuf) {
 }
 
 fn eval(map: &str, ep: &str, route: &str, cwd: &std::path::Path) -> Run {
-    m2rc(&["eval", "--map", map, "--episode", ep, "--route", route, "--format", "json"], cwd)
+    m2rc(
+        &[
+            "eval",
+            "--map",
+            map,
+            "--episode",
+            ep,
+            "--route",
+            route,
+            "--format",
+            "json",
+        ],
+        cwd,
+    )
 }
 
 #[test]
@@ -22,14 +35,33 @@ fn a_gold_program_compiles_as_written_from_its_suite_and_scores_hcs_1() {
     let (_, _, ep, prog, map) = first();
     let tmp = tempfile::tempdir().unwrap();
     let route = tmp.path().join("route.json");
-    let rel = prog.strip_prefix(suite(3)).unwrap().to_str().unwrap().to_string();
+    let rel = prog
+        .strip_prefix(suite(3))
+        .unwrap()
+        .to_str()
+        .unwrap()
+        .to_string();
     let r = m2rc(&["compile", &rel, "-o", route.to_str().unwrap()], suite(3)).expect(0);
-    assert!(r.stderr.contains("planning from the start of the episode"), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("planning from the start of the episode"),
+        "{}",
+        r.stderr
+    );
     let episode = read_json(&ep);
     let start = &episode["start_pose"];
     let traj = read_json(&route)["trajectory"].clone();
-    assert_eq!(traj[0], json!([start["row"], start["col"]]), "route starts at the episode's start");
-    let r = eval(map.to_str().unwrap(), ep.to_str().unwrap(), route.to_str().unwrap(), tmp.path()).expect(0);
+    assert_eq!(
+        traj[0],
+        json!([start["row"], start["col"]]),
+        "route starts at the episode's start"
+    );
+    let r = eval(
+        map.to_str().unwrap(),
+        ep.to_str().unwrap(),
+        route.to_str().unwrap(),
+        tmp.path(),
+    )
+    .expect(0);
     let v: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
     assert_eq!(v["HCS"], 1.0, "{v}");
     // Room names in the summary are the map's (`bedroom_2`), never "bedroom 5".
@@ -39,10 +71,16 @@ fn a_gold_program_compiles_as_written_from_its_suite_and_scores_hcs_1() {
         for w in re_like {
             if let Some(pos) = line.find(w) {
                 let next = line[pos + w.len()..].chars().next();
-                assert!(!next.is_some_and(|c| c.is_ascii_digit()), "room id instead of name: {line}");
+                assert!(
+                    !next.is_some_and(|c| c.is_ascii_digit()),
+                    "room id instead of name: {line}"
+                );
             }
         }
-        assert!(!line.contains("-0.00 m") && !line.contains("followwall"), "{line}");
+        assert!(
+            !line.contains("-0.00 m") && !line.contains("followwall"),
+            "{line}"
+        );
     }
 }
 
@@ -54,9 +92,23 @@ fn compile_with_episode_takes_its_start_and_its_map() {
     // The program alone, outside the suite, with the episode given: map and start from the episode.
     std::fs::write(tmp.path().join("p.m2r"), &program).unwrap();
     let route = tmp.path().join("r.json");
-    m2rc(&["compile", "p.m2r", "--episode", ep.to_str().unwrap(), "-o", "r.json"], tmp.path()).expect(0);
+    m2rc(
+        &[
+            "compile",
+            "p.m2r",
+            "--episode",
+            ep.to_str().unwrap(),
+            "-o",
+            "r.json",
+        ],
+        tmp.path(),
+    )
+    .expect(0);
     let start = read_json(&ep)["start_pose"].clone();
-    assert_eq!(read_json(&route)["trajectory"][0], json!([start["row"], start["col"]]));
+    assert_eq!(
+        read_json(&route)["trajectory"][0],
+        json!([start["row"], start["col"]])
+    );
 }
 
 #[test]
@@ -68,17 +120,56 @@ fn an_episode_on_another_map_is_refused_by_eval_and_compile() {
     let other_path = tmp.path().join("other.json");
     write_json(&other_path, &other);
     let route = tmp.path().join("r.json");
-    std::fs::write(&route, serde_json::to_vec(&json!([[other["start_pose"]["row"], other["start_pose"]["col"]]])).unwrap()).unwrap();
-    let r = eval(map.to_str().unwrap(), other_path.to_str().unwrap(), route.to_str().unwrap(), tmp.path()).expect(1);
-    assert!(r.stderr.contains("is an episode of map `procthor/002_valunseen`"), "{}", r.stderr);
+    std::fs::write(
+        &route,
+        serde_json::to_vec(&json!([[
+            other["start_pose"]["row"],
+            other["start_pose"]["col"]
+        ]]))
+        .unwrap(),
+    )
+    .unwrap();
+    let r = eval(
+        map.to_str().unwrap(),
+        other_path.to_str().unwrap(),
+        route.to_str().unwrap(),
+        tmp.path(),
+    )
+    .expect(1);
+    assert!(
+        r.stderr
+            .contains("is an episode of map `procthor/002_valunseen`"),
+        "{}",
+        r.stderr
+    );
     let r = m2rc(
-        &["compile", prog.to_str().unwrap(), "--map", map.to_str().unwrap(), "--episode", other_path.to_str().unwrap()],
+        &[
+            "compile",
+            prog.to_str().unwrap(),
+            "--map",
+            map.to_str().unwrap(),
+            "--episode",
+            other_path.to_str().unwrap(),
+        ],
         tmp.path(),
     )
     .expect(1);
     assert!(r.stderr.contains("is an episode of map"), "{}", r.stderr);
     // --any-map scores anyway.
-    m2rc(&["eval", "--map", map.to_str().unwrap(), "--episode", other_path.to_str().unwrap(), "--route", route.to_str().unwrap(), "--any-map"], tmp.path()).expect(0);
+    m2rc(
+        &[
+            "eval",
+            "--map",
+            map.to_str().unwrap(),
+            "--episode",
+            other_path.to_str().unwrap(),
+            "--route",
+            route.to_str().unwrap(),
+            "--any-map",
+        ],
+        tmp.path(),
+    )
+    .expect(0);
 }
 
 #[test]
@@ -90,26 +181,62 @@ fn bad_episode_files_get_clear_errors_and_integral_floats_are_accepted() {
     let route = tmp.path().join("r.json");
     write_json(&route, &json!([start]));
     let cases: Vec<(Box<dyn Fn(&mut serde_json::Value)>, &str)> = vec![
-        (Box::new(|v| v["hard_constraints"][0]["cells"] = json!([[100000, 3]])), "outside the"),
-        (Box::new(|v| v["hard_constraints"][0]["cells"] = json!([[-4, 3]])), "is negative"),
-        (Box::new(|v| v["hard_constraints"][1]["order"] = json!(-2)), "order -2"),
-        (Box::new(|v| v["soft_constraints"][0]["preference_type"] = json!("nearby_preference")), "unknown preference type `nearby_preference`"),
+        (
+            Box::new(|v| v["hard_constraints"][0]["cells"] = json!([[100000, 3]])),
+            "outside the",
+        ),
+        (
+            Box::new(|v| v["hard_constraints"][0]["cells"] = json!([[-4, 3]])),
+            "is negative",
+        ),
+        (
+            Box::new(|v| v["hard_constraints"][1]["order"] = json!(-2)),
+            "order -2",
+        ),
+        (
+            Box::new(|v| v["soft_constraints"][0]["preference_type"] = json!("nearby_preference")),
+            "unknown preference type `nearby_preference`",
+        ),
     ];
     for (edit, message) in cases {
         let mut v = base.clone();
         edit(&mut v);
         let p = tmp.path().join("bad.json");
         write_json(&p, &v);
-        let r = eval(map.to_str().unwrap(), p.to_str().unwrap(), route.to_str().unwrap(), tmp.path()).expect(2);
-        assert!(r.stderr.contains(message) && r.stderr.contains("bad.json"), "{message}: {}", r.stderr);
+        let r = eval(
+            map.to_str().unwrap(),
+            p.to_str().unwrap(),
+            route.to_str().unwrap(),
+            tmp.path(),
+        )
+        .expect(2);
+        assert!(
+            r.stderr.contains(message) && r.stderr.contains("bad.json"),
+            "{message}: {}",
+            r.stderr
+        );
     }
     // Cells written as 223.0 (as Python writers do) score exactly as integers.
     let text = serde_json::to_string(&base).unwrap();
     let floats = regex_like_floats(&text);
     let p = tmp.path().join("floats.json");
     std::fs::write(&p, &floats).unwrap();
-    let a = eval(map.to_str().unwrap(), ep.to_str().unwrap(), route.to_str().unwrap(), tmp.path()).expect(0).stdout;
-    let b = eval(map.to_str().unwrap(), p.to_str().unwrap(), route.to_str().unwrap(), tmp.path()).expect(0).stdout;
+    let a = eval(
+        map.to_str().unwrap(),
+        ep.to_str().unwrap(),
+        route.to_str().unwrap(),
+        tmp.path(),
+    )
+    .expect(0)
+    .stdout;
+    let b = eval(
+        map.to_str().unwrap(),
+        p.to_str().unwrap(),
+        route.to_str().unwrap(),
+        tmp.path(),
+    )
+    .expect(0)
+    .stdout;
     assert_eq!(a, b);
 }
 
@@ -148,18 +275,30 @@ fn regex_like_floats(text: &str) -> String {
 #[test]
 fn eval_takes_every_map_kind() {
     let tmp = tempfile::tempdir().unwrap();
-    std::fs::write(tmp.path().join("p.m2r"), "// map: demo\nlet k = rooms(kitchen).first()\nroute { go k }\n").unwrap();
+    std::fs::write(
+        tmp.path().join("p.m2r"),
+        "// map: demo\nlet k = rooms(kitchen).only()\nroute { go k }\n",
+    )
+    .unwrap();
     m2rc(&["compile", "p.m2r", "-o", "r.json"], tmp.path()).expect(0);
     let traj = read_json(&tmp.path().join("r.json"))["trajectory"].clone();
-    let (a, b) = (traj[0].clone(), traj[traj.as_array().unwrap().len() - 1].clone());
+    let (a, b) = (
+        traj[0].clone(),
+        traj[traj.as_array().unwrap().len() - 1].clone(),
+    );
     let pass = |id: &str, c: &serde_json::Value, o: i64| json!({"constraint_id": id, "kind": "must_pass", "shape": "freeform", "order": o, "cells": [c]});
-    write_json(&tmp.path().join("ep.json"), &json!({"hard_constraints": [pass("start", &a, 1), pass("goal", &b, 2)]}));
+    write_json(
+        &tmp.path().join("ep.json"),
+        &json!({"hard_constraints": [pass("start", &a, 1), pass("goal", &b, 2)]}),
+    );
     let r = eval("demo", "ep.json", "r.json", tmp.path()).expect(0);
     assert!(r.stdout.contains("\"HCS\":1.0"), "{}", r.stdout);
     m2rc(&["map", "import", "demo", "-o", "demo.json"], tmp.path()).expect(0);
     eval("demo.json", "ep.json", "r.json", tmp.path()).expect(0);
     let house = fixtures().join("procthor10k_uniform_hard_val_150_007.json");
-    eval(house.to_str().unwrap(), "ep.json", "r.json", tmp.path()).code.unwrap();
+    eval(house.to_str().unwrap(), "ep.json", "r.json", tmp.path())
+        .code
+        .unwrap();
 }
 
 #[test]
@@ -169,13 +308,33 @@ fn suite_manifests_name_houses_by_0_based_index() {
     assert!(!house.contains(".jsonl") || house.contains('#'), "{house}");
     // A directory of .json houses names files; a .jsonl would name `file#i`, usable as a map.
     let tmp = tempfile::tempdir().unwrap();
-    let src = std::fs::read_to_string(fixtures().join("procthor10k_uniform_hard_val_150_007.json")).unwrap();
+    let src = std::fs::read_to_string(fixtures().join("procthor10k_uniform_hard_val_150_007.json"))
+        .unwrap();
     let v: serde_json::Value = serde_json::from_str(&src).unwrap();
     let line = serde_json::to_string(&v).unwrap();
-    std::fs::write(tmp.path().join("h.jsonl"), format!("{line}\n\n{line}\n{line}\n")).unwrap();
+    std::fs::write(
+        tmp.path().join("h.jsonl"),
+        format!("{line}\n\n{line}\n{line}\n"),
+    )
+    .unwrap();
     let s = tmp.path().join("s");
     m2rc(
-        &["suite", "build", "--houses", "h.jsonl", "--scenes", "1", "--dev-scenes", "0", "--episodes-per-scene", "1", "--validate", "shortest", "--out", "s"],
+        &[
+            "suite",
+            "build",
+            "--houses",
+            "h.jsonl",
+            "--scenes",
+            "1",
+            "--dev-scenes",
+            "0",
+            "--episodes-per-scene",
+            "1",
+            "--validate",
+            "shortest",
+            "--out",
+            "s",
+        ],
         tmp.path(),
     )
     .expect(0);

@@ -42,7 +42,12 @@ fn session(input: &[u8]) -> (Option<i32>, Vec<Value>, String) {
     let mut out = Vec::new();
     child.stdout.take().unwrap().read_to_end(&mut out).unwrap();
     let mut err = String::new();
-    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
     (status.code(), parse_frames(&out), err)
 }
 
@@ -65,14 +70,20 @@ fn parse_frames(mut bytes: &[u8]) -> Vec<Value> {
 }
 
 fn init() -> Vec<u8> {
-    let mut v = frame(&json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}}));
-    v.extend(frame(&json!({"jsonrpc": "2.0", "method": "initialized", "params": {}})));
+    let mut v = frame(
+        &json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}}),
+    );
+    v.extend(frame(
+        &json!({"jsonrpc": "2.0", "method": "initialized", "params": {}}),
+    ));
     v
 }
 
 fn shutdown_exit() -> Vec<u8> {
     let mut v = frame(&json!({"jsonrpc": "2.0", "id": 99, "method": "shutdown", "params": null}));
-    v.extend(frame(&json!({"jsonrpc": "2.0", "method": "exit", "params": null})));
+    v.extend(frame(
+        &json!({"jsonrpc": "2.0", "method": "exit", "params": null}),
+    ));
     v
 }
 
@@ -83,8 +94,17 @@ fn a_huge_content_length_is_answered_not_allocated() {
     let (code, msgs, err) = session(&input);
     assert!(code.is_some(), "killed by a signal; stderr: {err}");
     assert!(!err.contains("memory allocation"), "{err}");
-    let e = msgs.iter().find(|m| m["error"]["code"] == -32600).unwrap_or_else(|| panic!("{msgs:?}"));
-    assert!(e["error"]["message"].as_str().unwrap().contains("larger than the limit"), "{e}");
+    let e = msgs
+        .iter()
+        .find(|m| m["error"]["code"] == -32600)
+        .unwrap_or_else(|| panic!("{msgs:?}"));
+    assert!(
+        e["error"]["message"]
+            .as_str()
+            .unwrap()
+            .contains("larger than the limit"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -92,15 +112,27 @@ fn malformed_json_rpc_gets_a_parse_error_and_the_server_goes_on() {
     let mut input = init();
     input.extend(raw_frame("{this is not json"));
     input.extend(raw_frame(r#"{"jsonrpc": "2.0", "method": 5}"#));
-    input.extend(frame(&json!({"jsonrpc": "2.0", "id": 2, "method": "textDocument/hover", "params": {
-        "textDocument": {"uri": "file:///x.m2r"}, "position": {"line": 0, "character": 0}}})));
+    input.extend(frame(
+        &json!({"jsonrpc": "2.0", "id": 2, "method": "textDocument/hover", "params": {
+        "textDocument": {"uri": "file:///x.m2r"}, "position": {"line": 0, "character": 0}}}),
+    ));
     input.extend(shutdown_exit());
     let (code, msgs, err) = session(&input);
-    let parse = msgs.iter().find(|m| m["error"]["code"] == -32700).unwrap_or_else(|| panic!("{msgs:?}"));
+    let parse = msgs
+        .iter()
+        .find(|m| m["error"]["code"] == -32700)
+        .unwrap_or_else(|| panic!("{msgs:?}"));
     assert_eq!(parse["id"], Value::Null);
-    let invalid = msgs.iter().find(|m| m["error"]["code"] == -32600).unwrap_or_else(|| panic!("{msgs:?}"));
+    let invalid = msgs
+        .iter()
+        .find(|m| m["error"]["code"] == -32600)
+        .unwrap_or_else(|| panic!("{msgs:?}"));
     assert_eq!(invalid["id"], Value::Null);
-    assert!(msgs.iter().any(|m| m["id"] == 2 && m.get("error").is_none()), "{msgs:?}");
+    assert!(
+        msgs.iter()
+            .any(|m| m["id"] == 2 && m.get("error").is_none()),
+        "{msgs:?}"
+    );
     assert!(msgs.iter().any(|m| m["id"] == 99), "{msgs:?}");
     assert_eq!(code, Some(0), "{err}");
 }
@@ -108,7 +140,9 @@ fn malformed_json_rpc_gets_a_parse_error_and_the_server_goes_on() {
 #[test]
 fn exit_without_shutdown_exits_1_and_after_shutdown_0() {
     let mut input = init();
-    input.extend(frame(&json!({"jsonrpc": "2.0", "method": "exit", "params": null})));
+    input.extend(frame(
+        &json!({"jsonrpc": "2.0", "method": "exit", "params": null}),
+    ));
     let (code, _, err) = session(&input);
     assert_eq!(code, Some(1), "{err}");
     let mut input = init();

@@ -22,11 +22,20 @@ fn an_incomplete_run_is_refused_unless_allowed_and_then_the_table_says_so() {
     let (m, i, _, _) = &eps[0];
     std::fs::remove_file(record(&out, m, i)).unwrap();
     let r = report(&[&out], &[], tmp.path()).expect(1);
-    assert!(r.stderr.contains("has 2 of 3 episodes") && r.stderr.contains("--allow-incomplete"), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("has 2 of 3 episodes") && r.stderr.contains("--allow-incomplete"),
+        "{}",
+        r.stderr
+    );
     let r = report(&[&out], &["--allow-incomplete"], tmp.path()).expect(0);
     assert!(r.stdout.contains("shortest: 2 / 3"), "{}", r.stdout);
     assert!(r.stdout.contains("INCOMPLETE"), "{}", r.stdout);
-    let r = report(&[&out], &["--allow-incomplete", "--format", "json"], tmp.path()).expect(0);
+    let r = report(
+        &[&out],
+        &["--allow-incomplete", "--format", "json"],
+        tmp.path(),
+    )
+    .expect(0);
     let v: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
     assert_eq!(v["methods"][0]["episodes_present"], 2);
     assert_eq!(v["methods"][0]["episodes_expected"], 3);
@@ -38,7 +47,11 @@ fn a_complete_report_states_present_and_expected() {
     let out = tmp.path().join("s");
     bench_run(suite(3), "shortest", &out, &[]).expect(0);
     let r = report(&[&out], &[], tmp.path()).expect(0);
-    assert!(r.stdout.contains("shortest: 3 / 3") && !r.stdout.contains("INCOMPLETE"), "{}", r.stdout);
+    assert!(
+        r.stdout.contains("shortest: 3 / 3") && !r.stdout.contains("INCOMPLETE"),
+        "{}",
+        r.stdout
+    );
 }
 
 #[test]
@@ -54,9 +67,17 @@ fn tampered_and_foreign_records_are_refused_by_the_report() {
     v["metrics_summary"]["HCS"] = serde_json::json!(0.0);
     write_json(&p, &v);
     let r = report(&[&out], &[], tmp.path()).expect(1);
-    assert!(r.stderr.contains(&p.display().to_string()) && r.stderr.contains("invalid record"), "{}", r.stderr);
+    assert!(
+        r.stderr.contains(&p.display().to_string()) && r.stderr.contains("invalid record"),
+        "{}",
+        r.stderr
+    );
     // Another episode's record in its place.
-    std::fs::write(&p, std::fs::read(record(&out, &eps[0].0, &eps[0].1)).unwrap()).unwrap();
+    std::fs::write(
+        &p,
+        std::fs::read(record(&out, &eps[0].0, &eps[0].1)).unwrap(),
+    )
+    .unwrap();
     let r = report(&[&out], &[], tmp.path()).expect(1);
     assert!(r.stderr.contains("but it is stored as"), "{}", r.stderr);
     // A record of an episode the run does not cover.
@@ -64,7 +85,11 @@ fn tampered_and_foreign_records_are_refused_by_the_report() {
     let stray = out.join(&eps[0].0).join("instruction_000999.json");
     std::fs::write(&stray, &good).unwrap();
     let r = report(&[&out], &[], tmp.path()).expect(1);
-    assert!(r.stderr.contains("not an episode of this run"), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("not an episode of this run"),
+        "{}",
+        r.stderr
+    );
     std::fs::remove_file(&stray).unwrap();
     // A truncated record.
     std::fs::write(&p, &good[..good.len() / 2]).unwrap();
@@ -78,9 +103,19 @@ fn the_same_directory_twice_and_shards_beside_their_merge_count_once() {
     let runs = tmp.path().join("runs");
     let full = runs.join("shortest");
     bench_run(suite(3), "shortest", &full, &[]).expect(0);
-    let once = report(&[&full], &["--format", "csv"], tmp.path()).expect(0).stdout;
+    let once = report(&[&full], &["--format", "csv"], tmp.path())
+        .expect(0)
+        .stdout;
     let twice = m2rc(
-        &["bench", "report", "runs/shortest", "runs/./shortest", full.to_str().unwrap(), "--format", "csv"],
+        &[
+            "bench",
+            "report",
+            "runs/shortest",
+            "runs/./shortest",
+            full.to_str().unwrap(),
+            "--format",
+            "csv",
+        ],
         tmp.path(),
     )
     .expect(0)
@@ -89,12 +124,24 @@ fn the_same_directory_twice_and_shards_beside_their_merge_count_once() {
     // The documented layout: runs/oracle.shard* beside the merged runs/oracle, then runs/*.
     for k in 1..=2 {
         let shard = format!("{k}/2");
-        bench_run(suite(3), "shortest", &runs.join(format!("shortest.shard{k}")), &["--shard", &shard]).expect(0);
+        bench_run(
+            suite(3),
+            "shortest",
+            &runs.join(format!("shortest.shard{k}")),
+            &["--shard", &shard],
+        )
+        .expect(0);
     }
-    let all: Vec<std::path::PathBuf> = std::fs::read_dir(&runs).unwrap().flatten().map(|e| e.path()).collect();
+    let all: Vec<std::path::PathBuf> = std::fs::read_dir(&runs)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .collect();
     assert_eq!(all.len(), 3);
     let refs: Vec<&Path> = all.iter().map(|p| p.as_path()).collect();
-    let star = report(&refs, &["--format", "csv"], tmp.path()).expect(0).stdout;
+    let star = report(&refs, &["--format", "csv"], tmp.path())
+        .expect(0)
+        .stdout;
     assert_eq!(star, once);
 }
 
@@ -140,8 +187,14 @@ fn merge_needs_every_shard_complete_and_of_one_fingerprint() {
     let single = tmp.path().join("single");
     bench_run(suite(3), "shortest", &single, &[]).expect(0);
     for (m, i, _, _) in &eps {
-        assert_eq!(std::fs::read(record(&single, m, i)).unwrap(), std::fs::read(record(&tmp.path().join("m5"), m, i)).unwrap());
+        assert_eq!(
+            std::fs::read(record(&single, m, i)).unwrap(),
+            std::fs::read(record(&tmp.path().join("m5"), m, i)).unwrap()
+        );
     }
-    assert_eq!(read_json(&single.join("run.json")), read_json(&tmp.path().join("m5/run.json")));
+    assert_eq!(
+        read_json(&single.join("run.json")),
+        read_json(&tmp.path().join("m5/run.json"))
+    );
     report(&[&tmp.path().join("m5")], &[], tmp.path()).expect(0);
 }

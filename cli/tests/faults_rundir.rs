@@ -17,7 +17,11 @@ fn a_run_into_a_directory_of_another_suite_or_method_is_refused_saying_what_diff
     assert!(r.stderr.contains("the suite differs"), "{}", r.stderr);
     // Another method: refused, naming the method configuration.
     let r = bench_run(&a, "hard-only", &out, &[]).expect(1);
-    assert!(r.stderr.contains("method configuration differs"), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("method configuration differs"),
+        "{}",
+        r.stderr
+    );
     // An edited episode file changes the suite fingerprint too.
     let (_, _, file, _) = &episodes(&a)[0];
     let mut ep = read_json(file);
@@ -59,17 +63,27 @@ fn invalid_records_are_recomputed_on_resume_with_a_warning_naming_them() {
     write_json(&paths[2], &r2);
 
     let r = bench_run(suite(3), "shortest", &out, &[]).expect(0);
-    for (p, why) in paths.iter().zip(["trajectory", "record of instruction", "changed"]) {
+    for (p, why) in paths
+        .iter()
+        .zip(["trajectory", "record of instruction", "changed"])
+    {
         let name = p.display().to_string();
         assert!(
-            r.stderr.lines().any(|l| l.contains("warning: recomputed") && l.contains(&name) && l.contains(why)),
+            r.stderr
+                .lines()
+                .any(|l| l.contains("warning: recomputed") && l.contains(&name) && l.contains(why)),
             "no warning for {name} ({why}):\n{}",
             r.stderr
         );
     }
     assert!(r.stdout.contains("3 recomputed"), "{}", r.stdout);
     for (p, o) in paths.iter().zip(&originals) {
-        assert_eq!(&std::fs::read(p).unwrap(), o, "{} not restored", p.display());
+        assert_eq!(
+            &std::fs::read(p).unwrap(),
+            o,
+            "{} not restored",
+            p.display()
+        );
     }
 }
 
@@ -79,11 +93,17 @@ fn leftover_temporary_files_are_removed_on_resume() {
     let out = tmp.path().join("run");
     bench_run(suite(3), "shortest", &out, &[]).expect(0);
     let (map_id, _, _, _) = &episodes(suite(3))[0];
-    let junk = out.join(map_id).join(".instruction_000001.json.tmp999.ThreadId(7)");
+    let junk = out
+        .join(map_id)
+        .join(".instruction_000001.json.tmp999.ThreadId(7)");
     std::fs::write(&junk, b"{\"half").unwrap();
     let r = bench_run(suite(3), "shortest", &out, &[]).expect(0);
     assert!(!junk.exists());
-    assert!(r.stderr.contains("removed 1 temporary file"), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("removed 1 temporary file"),
+        "{}",
+        r.stderr
+    );
 }
 
 #[test]
@@ -96,14 +116,31 @@ fn records_do_not_depend_on_the_path_the_suite_was_named_by() {
     // Through a relative path with a detour, from another working directory.
     std::fs::create_dir_all(tmp.path().join("w")).unwrap();
     m2rc(
-        &["bench", "run", "--suite", "../w/../s", "--method", "shortest", "--out", "../two", "--threads", "1"],
+        &[
+            "bench",
+            "run",
+            "--suite",
+            "../w/../s",
+            "--method",
+            "shortest",
+            "--out",
+            "../two",
+            "--threads",
+            "1",
+        ],
         &tmp.path().join("w"),
     )
     .expect(0);
     for (m, i, _, _) in episodes(&suite_dir) {
-        assert_eq!(std::fs::read(record(&one, &m, &i)).unwrap(), std::fs::read(record(&two, &m, &i)).unwrap());
+        assert_eq!(
+            std::fs::read(record(&one, &m, &i)).unwrap(),
+            std::fs::read(record(&two, &m, &i)).unwrap()
+        );
     }
-    assert_eq!(std::fs::read(one.join("run.json")).unwrap(), std::fs::read(two.join("run.json")).unwrap());
+    assert_eq!(
+        std::fs::read(one.join("run.json")).unwrap(),
+        std::fs::read(two.join("run.json")).unwrap()
+    );
     let text = std::fs::read_to_string(one.join("run.json")).unwrap();
     assert!(!text.contains(tmp.path().to_str().unwrap()), "{text}");
 }
@@ -113,7 +150,11 @@ fn threads_are_capped_to_the_machine() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("run");
     let r = bench_run(suite(3), "shortest", &out, &["--threads", "100000"]).expect(0);
-    assert!(r.stderr.contains("--threads 100000 is more than the"), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("--threads 100000 is more than the"),
+        "{}",
+        r.stderr
+    );
     let r = bench_run(suite(3), "shortest", &out, &["--threads", "0"]).expect(2);
     assert!(r.stderr.contains("at least 1"), "{}", r.stderr);
 }

@@ -176,10 +176,22 @@ pub fn markdown(t: &Table) -> String {
     let coverage: Vec<String> = t
         .methods
         .iter()
-        .map(|r| format!("{}: {} / {}", r.method, r.episodes_present, r.episodes_expected))
+        .map(|r| {
+            format!(
+                "{}: {} / {}",
+                r.method, r.episodes_present, r.episodes_expected
+            )
+        })
         .collect();
-    out.push_str(&format!("\nEpisodes present / expected — {}.\n", coverage.join("; ")));
-    for r in t.methods.iter().filter(|r| r.episodes_present < r.episodes_expected) {
+    out.push_str(&format!(
+        "\nEpisodes present / expected — {}.\n",
+        coverage.join("; ")
+    ));
+    for r in t
+        .methods
+        .iter()
+        .filter(|r| r.episodes_present < r.episodes_expected)
+    {
         out.push_str(&format!(
             "\n**INCOMPLETE: `{}` has {} of {} episodes; its row averages only those and is not comparable with complete rows.**\n",
             r.method, r.episodes_present, r.episodes_expected

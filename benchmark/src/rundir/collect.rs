@@ -110,8 +110,11 @@ fn key_of(dir: &Path, file: &Path) -> String {
 }
 
 pub fn split_key(key: &str) -> Result<(&str, &str), RunError> {
-    key.split_once('/')
-        .ok_or_else(|| RunError::Invalid(format!("run.json: episode key `{key}` is not map_id/instruction_id")))
+    key.split_once('/').ok_or_else(|| {
+        RunError::Invalid(format!(
+            "run.json: episode key `{key}` is not map_id/instruction_id"
+        ))
+    })
 }
 
 /// The record files (`<dir>/<map>/instruction_*.json`) of a run directory, sorted.

@@ -3,7 +3,9 @@
 
 use super::RunLock;
 use super::collect::{RunDir, read_run_dir, split_key};
-use crate::runner::{RUN_MANIFEST, RunError, RunManifest, read_run_manifest, record_path, write_atomic};
+use crate::runner::{
+    RUN_MANIFEST, RunError, RunManifest, read_run_manifest, record_path, write_atomic,
+};
 use serde::Serialize;
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -21,7 +23,10 @@ fn invalid(msg: String) -> RunError {
 /// Merges shard run directories of one method and suite into `out`. Every shard of the split
 /// must be given (`k/N` for every k), be complete, and carry the same fingerprint; every record
 /// is validated before anything is written; records are copied byte for byte.
-pub fn merge(shards: &[std::path::PathBuf], out: &std::path::Path) -> Result<MergeSummary, RunError> {
+pub fn merge(
+    shards: &[std::path::PathBuf],
+    out: &std::path::Path,
+) -> Result<MergeSummary, RunError> {
     if shards.is_empty() {
         return Err(invalid("no shard directories given".into()));
     }
@@ -107,7 +112,10 @@ pub fn merge(shards: &[std::path::PathBuf], out: &std::path::Path) -> Result<Mer
     }
     let shards_in_order: Vec<&RunDir> = by_index.into_iter().flatten().collect();
     // Manifest order of the whole split: position i was run by shard i mod N.
-    let total: usize = shards_in_order.iter().map(|r| r.manifest.expected.len()).sum();
+    let total: usize = shards_in_order
+        .iter()
+        .map(|r| r.manifest.expected.len())
+        .sum();
     let mut expected = Vec::with_capacity(total);
     for i in 0..total {
         let shard = &shards_in_order[i % count];
@@ -137,7 +145,10 @@ pub fn merge(shards: &[std::path::PathBuf], out: &std::path::Path) -> Result<Mer
     super::remove_leftover_temps(out)?;
     if out.join(RUN_MANIFEST).exists() {
         let old = read_run_manifest(out)?;
-        if old.fingerprint != merged.fingerprint || old.method != merged.method || old.split != merged.split {
+        if old.fingerprint != merged.fingerprint
+            || old.method != merged.method
+            || old.split != merged.split
+        {
             return Err(invalid(format!(
                 "{} already holds another run (`{}` on `{}`); merge into a new directory",
                 out.display(),
@@ -178,11 +189,13 @@ pub fn merge(shards: &[std::path::PathBuf], out: &std::path::Path) -> Result<Mer
         }
     }
     let path = out.join(RUN_MANIFEST);
-    write_atomic(&path, &serde_json::to_vec_pretty(&merged).expect("manifest serializes")).map_err(
-        |e| RunError::Io {
-            path: path.display().to_string(),
-            source: e,
-        },
-    )?;
+    write_atomic(
+        &path,
+        &serde_json::to_vec_pretty(&merged).expect("manifest serializes"),
+    )
+    .map_err(|e| RunError::Io {
+        path: path.display().to_string(),
+        source: e,
+    })?;
     Ok(summary)
 }

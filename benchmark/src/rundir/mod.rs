@@ -47,7 +47,11 @@ pub struct Fingerprint {
 
 impl Fingerprint {
     /// Hashes the suite in `dir` (whose manifest is `manifest`) and the method configuration.
-    pub fn new(dir: &Path, manifest: &SuiteManifest, method_config: Value) -> Result<Self, RunError> {
+    pub fn new(
+        dir: &Path,
+        manifest: &SuiteManifest,
+        method_config: Value,
+    ) -> Result<Self, RunError> {
         Ok(Fingerprint {
             suite: suite_fingerprint(dir, manifest)?,
             method: sha256_hex(&serde_json::to_vec(&method_config).unwrap_or_default()),
@@ -155,7 +159,9 @@ pub fn remove_leftover_temps(dir: &Path) -> Result<usize, RunError> {
     for entry in entries.flatten() {
         let path = entry.path();
         let name = entry.file_name().to_string_lossy().to_string();
-        let Ok(kind) = entry.file_type() else { continue };
+        let Ok(kind) = entry.file_type() else {
+            continue;
+        };
         if kind.is_dir() {
             removed += remove_leftover_temps(&path)?;
         } else if kind.is_file() && is_temp_name(&name) {
@@ -186,7 +192,10 @@ mod tests {
         b.method = sha256_hex(b"2");
         b.method_config = json!({"name": "oracle", "planner": "global"});
         let d = a.differences(&b).unwrap();
-        assert!(d.contains("suite differs") && d.contains("\"global\""), "{d}");
+        assert!(
+            d.contains("suite differs") && d.contains("\"global\""),
+            "{d}"
+        );
     }
 
     #[test]

@@ -69,7 +69,12 @@ pub fn validate(record: &Value, e: &Expected<'_>) -> Result<(), String> {
     let text = |k: &str| obj.get(k).and_then(Value::as_str);
     match text("method") {
         Some(m) if m == e.method => {}
-        Some(m) => return Err(format!("it is a record of method `{m}`, but the run is `{}`", e.method)),
+        Some(m) => {
+            return Err(format!(
+                "it is a record of method `{m}`, but the run is `{}`",
+                e.method
+            ));
+        }
         None => return Err("field `method` is missing or not a string".into()),
     }
     match text("instruction_id") {
@@ -84,7 +89,12 @@ pub fn validate(record: &Value, e: &Expected<'_>) -> Result<(), String> {
     }
     match text("map_dir") {
         Some(d) if d == e.map_dir => {}
-        Some(d) => return Err(format!("it is a record of map {d}, but it is stored under {}", e.map_dir)),
+        Some(d) => {
+            return Err(format!(
+                "it is a record of map {d}, but it is stored under {}",
+                e.map_dir
+            ));
+        }
         None => return Err("field `map_dir` is missing or not a string".into()),
     }
     match text("map_id") {
@@ -95,17 +105,29 @@ pub fn validate(record: &Value, e: &Expected<'_>) -> Result<(), String> {
     match obj.get(FINGERPRINT_KEY) {
         Some(fp) => {
             if fp.get("suite").and_then(Value::as_str) != Some(e.fingerprint.suite.as_str()) {
-                return Err("it was made from another suite (its suite fingerprint differs from run.json)".into());
+                return Err(
+                    "it was made from another suite (its suite fingerprint differs from run.json)"
+                        .into(),
+                );
             }
             if fp.get("method").and_then(Value::as_str) != Some(e.fingerprint.method.as_str()) {
                 return Err("it was made with another method configuration (its method fingerprint differs from run.json)".into());
             }
         }
-        None => return Err(format!("field `{FINGERPRINT_KEY}` is missing (not written by this run)")),
+        None => {
+            return Err(format!(
+                "field `{FINGERPRINT_KEY}` is missing (not written by this run)"
+            ));
+        }
     }
     match text(DIGEST_KEY) {
         Some(d) if d == digest(record) => {}
-        Some(_) => return Err("its content was changed after it was written (the record digest does not match)".into()),
+        Some(_) => {
+            return Err(
+                "its content was changed after it was written (the record digest does not match)"
+                    .into(),
+            );
+        }
         None => return Err(format!("field `{DIGEST_KEY}` is missing")),
     }
     if text("status").is_none() {
@@ -126,7 +148,9 @@ pub fn validate(record: &Value, e: &Expected<'_>) -> Result<(), String> {
             .as_array()
             .is_some_and(|a| a.len() == 2 && a.iter().all(|x| x.as_u64().is_some()));
         if !ok {
-            return Err(format!("trajectory[{i}] is not a [row, col] pair of non-negative integers"));
+            return Err(format!(
+                "trajectory[{i}] is not a [row, col] pair of non-negative integers"
+            ));
         }
     }
     let metrics: EpisodeMetrics = obj

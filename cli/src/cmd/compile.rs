@@ -130,7 +130,9 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     // The episode: given, or the gold program's own inside a suite.
     let episode_path = match &args.episode {
         Some(p) => Some(p.clone()),
-        None if !crate::io::is_dash(&args.file) => crate::suite_layout::episode_for_program(&args.file),
+        None if !crate::io::is_dash(&args.file) => {
+            crate::suite_layout::episode_for_program(&args.file)
+        }
         None => None,
     };
     let episode = match &episode_path {
@@ -446,7 +448,11 @@ pub fn render_options(c: &CompiledRoute) -> RenderOptions {
             overlays.push(region(
                 s.cells.cells(),
                 RegionKind::Scope,
-                format!("where {} applies: {}{scope}", constraint_what(&c.ir, ci), s.label),
+                format!(
+                    "where {} applies: {}{scope}",
+                    constraint_what(&c.ir, ci),
+                    s.label
+                ),
             ));
         }
         match &con.kind {
@@ -573,13 +579,19 @@ mod tests {
         assert!(scope.contains("living_room"), "{scope}");
         assert!(!labels.iter().any(|l| l.contains("c0 scope")), "{labels:?}");
         let text = summary_text(&compile_example("07_follow_wall.m2r"));
-        assert!(text.contains("follow_wall") && !text.contains("followwall"), "{text}");
+        assert!(
+            text.contains("follow_wall") && !text.contains("followwall"),
+            "{text}"
+        );
         assert_eq!(metres(-0.001), "0.00 m");
         for line in summary_text(&c).lines() {
-            let bad = ["bathroom ", "bedroom ", "kitchen ", "living_room "].iter().any(|w| {
-                line.match_indices(w)
-                    .any(|(i, _)| line[i + w.len()..].starts_with(|ch: char| ch.is_ascii_digit()))
-            });
+            let bad = ["bathroom ", "bedroom ", "kitchen ", "living_room "]
+                .iter()
+                .any(|w| {
+                    line.match_indices(w).any(|(i, _)| {
+                        line[i + w.len()..].starts_with(|ch: char| ch.is_ascii_digit())
+                    })
+                });
             assert!(!bad, "room id instead of the map's name: {line}");
         }
     }

@@ -70,7 +70,10 @@ fn eval_map(arg: &str) -> Result<(EvalMap, Option<String>)> {
                 return Err(load_err);
             };
             let map = EvalMap::from_json(&value).map_err(|_| load_err)?;
-            let id = value.get("map_id").and_then(Value::as_str).map(str::to_string);
+            let id = value
+                .get("map_id")
+                .and_then(Value::as_str)
+                .map(str::to_string);
             Ok((map, id))
         }
     }
@@ -82,7 +85,12 @@ pub fn map_id_tail(id: &str) -> &str {
 }
 
 /// Refuses an episode made for another map than `map_id`.
-pub fn check_same_map(episode: &Episode, episode_name: &str, map_id: Option<&str>, map_name: &str) -> Result<()> {
+pub fn check_same_map(
+    episode: &Episode,
+    episode_name: &str,
+    map_id: Option<&str>,
+    map_name: &str,
+) -> Result<()> {
     if let (Some(ep), Some(map)) = (episode.map_id.as_deref(), map_id)
         && map_id_tail(ep) != map_id_tail(map)
     {

@@ -113,8 +113,9 @@ fn load(src: &SourceArgs) -> Result<(MapDocument, SourceKind)> {
     if staged.is_stdin() && opts.import.map_id.is_none() {
         opts.import.map_id = Some("stdin".into());
     }
-    load_map_with(&staged.arg, &opts)
-        .map_err(|e| crate::io::unusable(anyhow::Error::new(e).context(format!("cannot load map `{}`", src.map))))
+    load_map_with(&staged.arg, &opts).map_err(|e| {
+        crate::io::unusable(anyhow::Error::new(e).context(format!("cannot load map `{}`", src.map)))
+    })
 }
 
 fn import(args: ImportArgs) -> Result<ExitCode> {

@@ -83,9 +83,22 @@ pub fn suite(seed: u64) -> &'static Path {
     let seed_s = seed.to_string();
     m2rc(
         &[
-            "suite", "build", "--houses", fixtures().to_str().unwrap(), "--scenes", "1",
-            "--dev-scenes", "0", "--episodes-per-scene", "3", "--validate", "shortest",
-            "--seed", &seed_s, "--out", out.to_str().unwrap(),
+            "suite",
+            "build",
+            "--houses",
+            fixtures().to_str().unwrap(),
+            "--scenes",
+            "1",
+            "--dev-scenes",
+            "0",
+            "--episodes-per-scene",
+            "3",
+            "--validate",
+            "shortest",
+            "--seed",
+            &seed_s,
+            "--out",
+            out.to_str().unwrap(),
         ],
         dir.path(),
     )
@@ -138,7 +151,13 @@ pub fn episodes(suite: &Path) -> Vec<(String, String, PathBuf, PathBuf)> {
 /// `m2rc bench run` of `method` on `suite` into `out` (extra args appended).
 pub fn bench_run(suite: &Path, method: &str, out: &Path, extra: &[&str]) -> Run {
     let mut args = vec![
-        "bench", "run", "--suite", suite.to_str().unwrap(), "--method", method, "--out",
+        "bench",
+        "run",
+        "--suite",
+        suite.to_str().unwrap(),
+        "--method",
+        method,
+        "--out",
         out.to_str().unwrap(),
     ];
     if !extra.contains(&"--threads") {
