@@ -139,7 +139,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         Some(p) => {
             let name = display_name(p);
             let ep = Episode::from_json_str(&read_to_string(p)?, &name)?;
-            ep.check(None).map_err(unusable)?;
+            m2rc_benchmark::episode_check::check_episode(&ep, None, &name).map_err(unusable)?;
             Some((name, p.clone(), ep))
         }
         None => None,
@@ -163,7 +163,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     let (map, kind) = crate::io::load_map_kind(&map_arg)?;
     let mut start = args.start;
     if let Some((name, _, ep)) = &episode {
-        ep.check(Some(map.n())).map_err(unusable)?;
+        m2rc_benchmark::episode_check::check_episode(ep, Some(map.n()), name).map_err(unusable)?;
         if kind == m2rc_stdlib::load::SourceKind::Map2RouteMap {
             crate::cmd::eval::check_same_map(ep, name, Some(map.map_id.as_str()), &map_arg)?;
         }

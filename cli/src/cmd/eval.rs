@@ -105,7 +105,8 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
     let (map, map_id) = eval_map(&args.map)?;
     let ep_name = display_name(&args.episode);
     let episode = Episode::from_json_str(&read_to_string(&args.episode)?, &ep_name)?;
-    episode.check(Some(map.n())).map_err(unusable)?;
+    m2rc_benchmark::episode_check::check_episode(&episode, Some(map.n()), &ep_name)
+        .map_err(unusable)?;
     if !args.any_map {
         check_same_map(&episode, &ep_name, map_id.as_deref(), &args.map)?;
     }

@@ -66,6 +66,7 @@ pub enum InfoFormat {
 pub struct InfoArgs {
     #[command(flatten)]
     pub source: SourceArgs,
+    /// Print a readable summary (text) or one JSON object (json).
     #[arg(long, value_enum, default_value = "text")]
     pub format: InfoFormat,
 }

@@ -164,7 +164,9 @@ pub fn bench_run(suite: &Path, method: &str, out: &Path, extra: &[&str]) -> Run 
         args.extend_from_slice(&["--threads", "1"]);
     }
     args.extend_from_slice(extra);
-    m2rc(&args, out.parent().unwrap())
+    let cwd = out.parent().unwrap();
+    std::fs::create_dir_all(cwd).unwrap();
+    m2rc(&args, cwd)
 }
 
 /// The record file of an episode in a run directory.
