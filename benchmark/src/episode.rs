@@ -423,8 +423,11 @@ impl Episode {
                 message: "an instruction file must be a JSON object".into(),
             });
         }
+        // Whole-number floats (`[223.0, 117.0]`, as Python writers emit them) are read as the
+        // integers they are; the source value is kept as it was for faithful writing.
+        let typed = crate::episode_check::integral_floats_as_ints(&value);
         let mut episode: Episode =
-            serde_path_to_error::deserialize(&value).map_err(|e| EpisodeError::Field {
+            serde_path_to_error::deserialize(&typed).map_err(|e| EpisodeError::Field {
                 file: file.to_string(),
                 path: e.path().to_string(),
                 message: e.inner().to_string(),
@@ -440,6 +443,17 @@ impl Episode {
             source,
         })?;
         Episode::from_value(value, file)
+    }
+
+    /// Checks what the types cannot: cells inside an `n` x `n` map and not negative, 1-based
+    /// orders, known preference types (see [`crate::episode_check`]).
+    pub fn check(&self, n: Option<usize>) -> Result<(), EpisodeError> {
+        let file = self
+            .origin
+            .path
+            .as_ref()
+            .map_or("<episode>".to_string(), |p| p.display().to_string());
+        crate::episode_check::check_episode(self, n, &file)
     }
 
     /// Reads an instruction file.

@@ -62,8 +62,20 @@ pub fn parse_route(value: &Value, n: usize, file: &str) -> Result<Vec<[i64; 2]>,
     validate_points(list, n, &label).map_err(invalid)
 }
 
-/// Validates `[[row, col], ...]`: integers (not floats or booleans), inside `[0, n)`.
+/// The most points a route may have: 100 000 cells is 5 km at 0.05 m per cell, far beyond any
+/// house; longer routes are refused before anything is allocated for them, so a runaway
+/// generator cannot make the evaluator (whose path-shape term is quadratic) hang.
+pub const MAX_ROUTE_POINTS: usize = 100_000;
+
+/// Validates `[[row, col], ...]`: integers (not floats or booleans), inside `[0, n)`, at most
+/// [`MAX_ROUTE_POINTS`] of them.
 pub fn validate_points(list: &[Value], n: usize, label: &str) -> Result<Vec<[i64; 2]>, String> {
+    if list.len() > MAX_ROUTE_POINTS {
+        return Err(format!(
+            "{label} has {} points, more than the limit of {MAX_ROUTE_POINTS}",
+            list.len()
+        ));
+    }
     let mut out = Vec::with_capacity(list.len());
     for (i, p) in list.iter().enumerate() {
         let pair = match p.as_array() {
@@ -100,11 +112,16 @@ pub fn read_route(path: &Path, n: usize) -> Result<Vec<[i64; 2]>, RouteError> {
         file: file.clone(),
         source,
     })?;
-    let value: Value = serde_json::from_str(&text).map_err(|source| RouteError::Json {
-        file: file.clone(),
+    parse_route_text(&text, n, &file)
+}
+
+/// Parses and validates route JSON text; `file` names it in errors.
+pub fn parse_route_text(text: &str, n: usize, file: &str) -> Result<Vec<[i64; 2]>, RouteError> {
+    let value: Value = serde_json::from_str(text).map_err(|source| RouteError::Json {
+        file: file.to_string(),
         source,
     })?;
-    parse_route(&value, n, &file)
+    parse_route(&value, n, file)
 }
 
 #[cfg(test)]

@@ -11,6 +11,8 @@
 
 use crate::episode::Episode;
 use crate::methods::{Method, PreparedMap, start_cell};
+use crate::rundir::record::{self, Expected, RecordFile};
+use crate::rundir::{Fingerprint, RunLock};
 use crate::suite::{EpisodeEntry, SuiteManifest};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use m2rc_stdlib::grid::Cell;
@@ -19,7 +21,6 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -94,12 +95,21 @@ pub struct RunOptions {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunManifest {
     pub method: String,
-    pub suite: String,
     pub suite_name: String,
     pub split: String,
     pub shard: Option<Shard>,
     /// Episodes this run (or shard) covers.
     pub episodes: usize,
+    /// What the records were made from (suite and method configuration); `None` only in
+    /// directories written by an older m2rc, which are refused.
+    #[serde(default)]
+    pub fingerprint: Option<Fingerprint>,
+    /// The episodes this run (or shard) covers, as `map_id/instruction_id`, in manifest order.
+    #[serde(default)]
+    pub expected: Vec<String>,
+    /// Episodes of the split in the whole suite: what a complete run of the method holds.
+    #[serde(default)]
+    pub split_episodes: usize,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -110,6 +120,10 @@ pub struct RunSummary {
     pub written: usize,
     /// Episodes where the method returned no route (scored with the start cell only).
     pub method_failures: usize,
+    /// Records found invalid on resume and recomputed, with the reason (for a warning).
+    pub recomputed: Vec<String>,
+    /// Temporary files of an interrupted run that were removed.
+    pub temps_removed: usize,
 }
 
 /// The episodes of a suite a run covers, in manifest order.
@@ -153,15 +167,29 @@ pub fn run(method: &dyn Method, opts: &RunOptions) -> Result<RunSummary, RunErro
     let manifest =
         SuiteManifest::read(&opts.suite).map_err(|e| RunError::Invalid(e.to_string()))?;
     let episodes = select_episodes(&manifest, &opts.split, opts.shard);
+    let fingerprint = Fingerprint::new(&opts.suite, &manifest, method.config())?;
     let run_manifest = RunManifest {
         method: method.name().to_string(),
-        suite: opts.suite.display().to_string(),
         suite_name: manifest.config.name.clone(),
         split: opts.split.clone(),
         shard: opts.shard,
         episodes: episodes.len(),
+        fingerprint: Some(fingerprint.clone()),
+        expected: episodes
+            .iter()
+            .map(|e| format!("{}/{}", e.map_id, e.instruction_id))
+            .collect(),
+        split_episodes: select_episodes(&manifest, &opts.split, None).len(),
     };
+    // Held until the run returns: no other process writes this directory meanwhile.
+    let _lock = RunLock::acquire(&opts.out)?;
+    let temps_removed = crate::rundir::remove_leftover_temps(&opts.out)?;
     check_or_write_run_manifest(&opts.out, &run_manifest)?;
+    let recomputed: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    let ctx = RunCtx {
+        fingerprint: &fingerprint,
+        recomputed: &recomputed,
+    };
 
     let mut maps: BTreeMap<&str, Mutex<MapSlot>> = manifest
         .scenes
@@ -176,11 +204,12 @@ pub fn run(method: &dyn Method, opts: &RunOptions) -> Result<RunSummary, RunErro
     let bar = progress_bar(episodes.len() as u64, opts.progress, method.name());
     let summary = Mutex::new(RunSummary {
         episodes: episodes.len(),
+        temps_removed,
         ..RunSummary::default()
     });
     let first_error: Mutex<Option<RunError>> = Mutex::new(None);
     episodes.par_iter().for_each(|entry| {
-        let result = run_one(method, opts, &manifest, &maps, entry);
+        let result = run_one(method, opts, &ctx, &manifest, &maps, entry);
         let mut s = summary.lock().expect("summary lock");
         match result {
             Ok(Outcome::Skipped) => s.skipped += 1,
@@ -201,7 +230,16 @@ pub fn run(method: &dyn Method, opts: &RunOptions) -> Result<RunSummary, RunErro
     if let Some(e) = first_error.into_inner().expect("error lock") {
         return Err(e);
     }
-    Ok(summary.into_inner().expect("summary lock"))
+    let mut summary = summary.into_inner().expect("summary lock");
+    summary.recomputed = recomputed.into_inner().unwrap_or_else(|p| p.into_inner());
+    summary.recomputed.sort();
+    Ok(summary)
+}
+
+/// What every episode of one run shares.
+struct RunCtx<'a> {
+    fingerprint: &'a Fingerprint,
+    recomputed: &'a Mutex<Vec<String>>,
 }
 
 enum Outcome {
@@ -222,6 +260,7 @@ struct MapSlot {
 fn run_one(
     method: &dyn Method,
     opts: &RunOptions,
+    ctx: &RunCtx<'_>,
     manifest: &SuiteManifest,
     maps: &BTreeMap<&str, Mutex<MapSlot>>,
     entry: &EpisodeEntry,
@@ -232,7 +271,7 @@ fn run_one(
             entry.file, entry.map_id
         ))
     })?;
-    let result = run_on_map(method, opts, manifest, slot, entry);
+    let result = run_on_map(method, opts, ctx, manifest, slot, entry);
     let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
     slot.remaining = slot.remaining.saturating_sub(1);
     if slot.remaining == 0 {
@@ -244,13 +283,25 @@ fn run_one(
 fn run_on_map(
     method: &dyn Method,
     opts: &RunOptions,
+    ctx: &RunCtx<'_>,
     manifest: &SuiteManifest,
     slot: &Mutex<MapSlot>,
     entry: &EpisodeEntry,
 ) -> Result<Outcome, RunError> {
     let out_path = record_path(&opts.out, &entry.map_id, &entry.instruction_id);
-    if record_is_complete(&out_path) {
-        return Ok(Outcome::Skipped);
+    let expected = Expected {
+        method: method.name(),
+        fingerprint: ctx.fingerprint,
+        map_dir: &entry.map_id,
+        instruction_id: &entry.instruction_id,
+    };
+    match record::check_file(&out_path, &expected) {
+        RecordFile::Valid(_) => return Ok(Outcome::Skipped),
+        RecordFile::Missing => {}
+        RecordFile::Invalid(why) => {
+            let mut r = ctx.recomputed.lock().unwrap_or_else(|p| p.into_inner());
+            r.push(format!("{}: {why}", out_path.display()));
+        }
     }
     let map = {
         let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
@@ -260,8 +311,15 @@ fn run_on_map(
     }
     .map_err(RunError::Invalid)?;
     let ep_path = opts.suite.join(&entry.file);
-    let episode = Episode::read(&ep_path).map_err(|e| RunError::Invalid(e.to_string()))?;
-    let record = predict_and_score(method, &map, &episode, &entry.map_id);
+    let mut episode = Episode::read(&ep_path).map_err(|e| RunError::Invalid(e.to_string()))?;
+    // Records name the episode by its place in the suite, never by the path the suite was
+    // given as, so the same run gives the same bytes from any working directory.
+    episode
+        .check(Some(map.map.n()))
+        .map_err(|e| RunError::Invalid(e.to_string()))?;
+    episode.set_source_path(Some(PathBuf::from(&entry.file)));
+    let mut record = predict_and_score(method, &map, &episode, &entry.map_id);
+    record::seal(&mut record, ctx.fingerprint);
     let method_failed = record.get("status").and_then(Value::as_str) != Some("ok");
     let bytes = serde_json::to_vec(&record).expect("record serializes");
     write_atomic(&out_path, &bytes).map_err(|e| io_err(&out_path, e))?;
@@ -353,10 +411,22 @@ fn check_or_write_run_manifest(out: &Path, m: &RunManifest) -> Result<(), RunErr
         let old: RunManifest = serde_json::from_slice(&bytes).map_err(|e| {
             RunError::Invalid(format!("{}: not a run manifest: {e}", path.display()))
         })?;
+        let old_fp = crate::rundir::collect::manifest_fingerprint(out, &old)?;
+        if let Some(fp) = &m.fingerprint
+            && let Some(diff) = old_fp.differences(fp)
+        {
+            return Err(RunError::Invalid(format!(
+                "{} holds a run of method `{}` on suite `{}`, and {diff}; resume it with the same suite and method, or use another --out",
+                out.display(),
+                old.method,
+                old.suite_name
+            )));
+        }
         if old.method != m.method
             || old.suite_name != m.suite_name
             || old.shard != m.shard
             || old.split != m.split
+            || old.expected != m.expected
         {
             return Err(RunError::Invalid(format!(
                 "{} already holds a run of method `{}` on suite `{}` (split {}, shard {:?}); use another --out",
@@ -407,91 +477,7 @@ pub fn read_records(dir: &Path) -> Result<Vec<Value>, RunError> {
         .collect()
 }
 
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct MergeSummary {
-    pub shards: usize,
-    pub records: usize,
-    /// Records present in more than one shard with identical content.
-    pub duplicates: usize,
-}
-
-/// Combines shard run directories of one method and suite into `out`. Records are copied
-/// byte-for-byte; a record present in two shards must be identical.
-pub fn merge(shards: &[PathBuf], out: &Path) -> Result<MergeSummary, RunError> {
-    let mut first: Option<RunManifest> = None;
-    let mut summary = MergeSummary {
-        shards: shards.len(),
-        ..MergeSummary::default()
-    };
-    let mut total = 0usize;
-    for dir in shards {
-        let m = read_run_manifest(dir)?;
-        if let Some(f) = &first {
-            if f.method != m.method || f.suite_name != m.suite_name || f.split != m.split {
-                return Err(RunError::Invalid(format!(
-                    "{} is a run of `{}` on `{}` ({}), but {} is `{}` on `{}` ({})",
-                    dir.display(),
-                    m.method,
-                    m.suite_name,
-                    m.split,
-                    shards[0].display(),
-                    f.method,
-                    f.suite_name,
-                    f.split
-                )));
-            }
-        } else {
-            first = Some(m.clone());
-        }
-        total += m.episodes;
-        for entry in std::fs::read_dir(dir)
-            .map_err(|e| io_err(dir, e))?
-            .flatten()
-        {
-            let sub = entry.path();
-            if !sub.is_dir() {
-                continue;
-            }
-            let map_dir = entry.file_name();
-            for f in std::fs::read_dir(&sub)
-                .map_err(|e| io_err(&sub, e))?
-                .flatten()
-            {
-                let name = f.file_name().to_string_lossy().to_string();
-                if !(name.starts_with("instruction_") && name.ends_with(".json")) {
-                    continue;
-                }
-                let bytes = std::fs::read(f.path()).map_err(|e| io_err(&f.path(), e))?;
-                let target = out.join(&map_dir).join(&name);
-                if let Ok(existing) = std::fs::read(&target) {
-                    if existing != bytes {
-                        return Err(RunError::Invalid(format!(
-                            "{} differs from the record already merged at {}",
-                            f.path().display(),
-                            target.display()
-                        )));
-                    }
-                    summary.duplicates += 1;
-                    continue;
-                }
-                write_atomic(&target, &bytes).map_err(|e| io_err(&target, e))?;
-                summary.records += 1;
-            }
-        }
-    }
-    let Some(mut m) = first else {
-        return Err(RunError::Invalid("no shard directories given".into()));
-    };
-    m.shard = None;
-    m.episodes = total;
-    let path = out.join(RUN_MANIFEST);
-    write_atomic(
-        &path,
-        &serde_json::to_vec_pretty(&m).expect("manifest serializes"),
-    )
-    .map_err(|e| io_err(&path, e))?;
-    Ok(summary)
-}
+pub use crate::rundir::merge::{MergeSummary, merge};
 
 fn progress_bar(len: u64, show: bool, label: &str) -> ProgressBar {
     let bar = ProgressBar::with_draw_target(
@@ -512,30 +498,8 @@ fn progress_bar(len: u64, show: bool, label: &str) -> ProgressBar {
 }
 
 /// Writes `bytes` to `path` atomically (temporary file in the same directory, fsync, rename), so
-/// an interrupted run never leaves a half-written file that a resumed run would trust.
+/// an interrupted run never leaves a half-written file that a resumed run would trust; see
+/// [`crate::atomic`] for what happens with links and special files.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    std::fs::create_dir_all(dir)?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().to_string())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(
-        ".{name}.tmp{}.{:?}",
-        std::process::id(),
-        std::thread::current().id()
-    ));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    crate::atomic::write_atomic(path, bytes)
 }

@@ -1,41 +1,226 @@
-//! File helpers shared by the subcommands: every write is atomic (temporary file in the same
-//! directory, then rename), so an interrupted run never leaves a half-written output behind.
+//! File and terminal I/O shared by the subcommands.
+//!
+//! * Every write is atomic (temporary file in the same directory, then rename), writes through a
+//!   symbolic link to its target file, and refuses a directory, device, pipe or socket (see
+//!   `m2rc_benchmark::atomic`); the path `-` writes to standard output instead.
+//! * The path `-` reads standard input wherever a file is read (once per command).
+//! * Standard output closed early (`m2rc ... | head -1`) ends the command quietly with status 0.
+//! * Exit status: 2 when an input cannot be used at all (unreadable, not JSON, not a map, a bad
+//!   flag value), 1 when it was read and found wrong (diagnostics, a refused run, a mismatch).
 
 use anyhow::{Context, Result};
-use std::io::Write;
-use std::path::Path;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
-/// Writes `bytes` to `path` atomically, creating parent directories.
-#[allow(dead_code)]
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("cannot create directory {}", dir.display()))?;
-    let file_name = path
-        .file_name()
-        .with_context(|| format!("{} is not a file path", path.display()))?
-        .to_string_lossy();
-    let tmp = dir.join(format!(".{file_name}.tmp{}", std::process::id()));
-    let result = (|| -> Result<()> {
-        let mut f = std::fs::File::create(&tmp)
-            .with_context(|| format!("cannot create {}", tmp.display()))?;
-        f.write_all(bytes)
-            .with_context(|| format!("cannot write {}", tmp.display()))?;
-        f.sync_all().ok();
-        std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))?;
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+/// Exit status of a command whose input cannot be used at all.
+pub const EXIT_UNUSABLE: u8 = 2;
+/// Exit status of a command whose input was read and found wrong.
+pub const EXIT_WRONG: u8 = 1;
+
+/// An error meaning "the input cannot be used at all" (exit status 2); it holds the message of
+/// the error it replaced.
+#[derive(Debug)]
+pub struct Unusable(pub String);
+
+impl std::fmt::Display for Unusable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
     }
-    result
 }
 
-/// Reads a whole file as UTF-8, naming the file in the error.
-#[allow(dead_code)]
+impl std::error::Error for Unusable {}
+
+/// Turns `err` into an [`Unusable`] error, so that the command exits with status 2.
+pub fn unusable(err: impl Into<anyhow::Error>) -> anyhow::Error {
+    let err: anyhow::Error = err.into();
+    if err.chain().any(|c| c.is::<Unusable>()) {
+        return err;
+    }
+    let mut text = String::new();
+    for cause in err.chain() {
+        let t = cause.to_string();
+        if t.is_empty() || text.contains(&t) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&t);
+    }
+    anyhow::Error::new(Unusable(text))
+}
+
+/// Whether `err` is standard output going away (a closed pipe).
+pub fn is_broken_pipe(err: &anyhow::Error) -> bool {
+    err.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
+/// The exit status for a command that failed with `err`: 2 for unusable input (marked with
+/// [`unusable`], or an input that could not be read or parsed), else 1.
+pub fn exit_code(err: &anyhow::Error) -> ExitCode {
+    let unusable = err.chain().any(|c| {
+        c.is::<Unusable>()
+            || c.is::<std::io::Error>()
+            || c.is::<serde_json::Error>()
+            || c.is::<m2rc_stdlib::map::MapError>()
+            || c.is::<m2rc_benchmark::episode::EpisodeError>()
+            || c.is::<m2rc_benchmark::route::RouteError>()
+            || c.is::<m2rc_benchmark::suite::SuiteError>()
+    });
+    ExitCode::from(if unusable { EXIT_UNUSABLE } else { EXIT_WRONG })
+}
+
+/// Makes a panic from `print!`/`println!` on a closed standard output end the process quietly
+/// (status 0), as `head` expects of the command before it; other panics are reported as usual.
+pub fn quiet_broken_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let text = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if text.contains("failed printing to stdout") && text.contains("Broken pipe") {
+            std::process::exit(0);
+        }
+        default(info);
+    }));
+}
+
+/// Writes `bytes` to standard output and flushes; a closed pipe is an error that [`is_broken_pipe`]
+/// recognizes (the command then exits quietly).
+pub fn stdout_bytes(bytes: &[u8]) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    out.write_all(bytes)
+        .and_then(|()| out.flush())
+        .context("cannot write standard output")
+}
+
+/// [`stdout_bytes`] for text.
+pub fn stdout(text: &str) -> Result<()> {
+    stdout_bytes(text.as_bytes())
+}
+
+/// Whether a path argument means standard input or output.
+pub fn is_dash(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// Writes `bytes` to `path` atomically, creating parent directories; `-` writes to standard
+/// output. A symbolic link is written through; a directory or special file is refused.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    if is_dash(path) {
+        return stdout_bytes(bytes);
+    }
+    // An output that cannot be written is not an unusable input: plain message, status 1.
+    m2rc_benchmark::atomic::write_atomic(path, bytes)
+        .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))
+}
+
+static STDIN_TAKEN: AtomicBool = AtomicBool::new(false);
+
+/// Reads all of standard input; a second read in the same command is refused (only one input
+/// can be `-`).
+pub fn read_stdin() -> Result<Vec<u8>> {
+    if STDIN_TAKEN.swap(true, Ordering::SeqCst) {
+        return Err(unusable(anyhow::anyhow!(
+            "only one input can be `-` (standard input) per command"
+        )));
+    }
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .read_to_end(&mut bytes)
+        .context("cannot read standard input")?;
+    Ok(bytes)
+}
+
+/// Reads a whole file (`-`: standard input), naming the file in the error.
+pub fn read_bytes(path: &Path) -> Result<Vec<u8>> {
+    if is_dash(path) {
+        return read_stdin();
+    }
+    std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
+}
+
+/// Reads a whole file (`-`: standard input) as UTF-8, naming the file in the error.
 pub fn read_to_string(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))
+    let bytes = read_bytes(path)?;
+    String::from_utf8(bytes)
+        .map_err(|_| unusable(anyhow::anyhow!("{}: not UTF-8 text", display_name(path))))
+}
+
+/// How an input is named in messages: `<stdin>` for `-`.
+pub fn display_name(path: &Path) -> String {
+    if is_dash(path) {
+        "<stdin>".into()
+    } else {
+        path.display().to_string()
+    }
+}
+
+/// A map argument as the map loaders take it: `-` is copied from standard input to a temporary
+/// file (removed when the guard drops), anything else is passed through.
+pub struct MapArg {
+    pub arg: String,
+    temp: Option<PathBuf>,
+}
+
+impl MapArg {
+    pub fn new(arg: &str) -> Result<MapArg> {
+        if arg != "-" {
+            return Ok(MapArg {
+                arg: arg.to_string(),
+                temp: None,
+            });
+        }
+        let bytes = read_stdin()?;
+        let path = std::env::temp_dir().join(format!("m2rc-stdin-{}.json", std::process::id()));
+        std::fs::write(&path, &bytes)
+            .with_context(|| format!("cannot stage standard input in {}", path.display()))?;
+        Ok(MapArg {
+            arg: path.to_string_lossy().into_owned(),
+            temp: Some(path),
+        })
+    }
+
+    /// Whether the map came from standard input (its file name then means nothing).
+    pub fn is_stdin(&self) -> bool {
+        self.temp.is_some()
+    }
+}
+
+impl Drop for MapArg {
+    fn drop(&mut self) {
+        if let Some(p) = &self.temp {
+            let _ = std::fs::remove_file(p);
+        }
+    }
+}
+
+/// Loads a map argument (a Map2Route map, a ProcTHOR house, `demo`, or `-`).
+pub fn load_map(arg: &str) -> Result<m2rc_stdlib::map::SemanticMap> {
+    load_map_kind(arg).map(|(m, _)| m)
+}
+
+/// [`load_map`], also saying what the argument was.
+pub fn load_map_kind(
+    arg: &str,
+) -> Result<(m2rc_stdlib::map::SemanticMap, m2rc_stdlib::load::SourceKind)> {
+    let staged = MapArg::new(arg)?;
+    let opts = m2rc_stdlib::load::LoadOptions {
+        import: m2rc_stdlib::import::ImportOptions {
+            map_id: staged.is_stdin().then(|| "stdin".to_string()),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    m2rc_stdlib::load::load_map_with(&staged.arg, &opts)
+        .map(|(d, kind)| (d.map, kind))
+        .map_err(|e| unusable(anyhow::Error::new(e).context(format!("cannot load map `{arg}`"))))
 }

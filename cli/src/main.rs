@@ -3,6 +3,8 @@
 
 mod cmd;
 mod io;
+mod lsp_stdio;
+mod suite_layout;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -12,6 +14,7 @@ use std::process::ExitCode;
     name = "m2rc",
     version,
     about = "Compile route instructions, written in the .m2r route language, into routes over semantic maps; score routes on the Map2Route benchmark.",
+    after_help = "Exit status: 0 success; 1 the input was read and found wrong (program errors, a refused or failed check, a mismatch); 2 an input cannot be used at all (unreadable file, not JSON, not a map, bad flag). Wherever a file is read, `-` reads standard input; `-o -` writes standard output.",
     propagate_version = true
 )]
 struct Cli {
@@ -43,6 +46,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    io::quiet_broken_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Map(c) => cmd::map::run(c),
@@ -56,9 +60,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(code) => code,
+        Err(err) if io::is_broken_pipe(&err) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {}", error_chain(&err));
-            ExitCode::FAILURE
+            io::exit_code(&err)
         }
     }
 }
@@ -69,7 +74,7 @@ fn error_chain(err: &anyhow::Error) -> String {
     let mut out = String::new();
     for cause in err.chain() {
         let text = cause.to_string();
-        if out.contains(&text) {
+        if text.is_empty() || out.contains(&text) {
             continue;
         }
         if !out.is_empty() {
@@ -83,6 +88,57 @@ fn error_chain(err: &anyhow::Error) -> String {
 #[cfg(test)]
 mod tests {
     use super::error_chain;
+    use clap::CommandFactory;
+
+    /// Every subcommand path (`bench merge`), and each argument without a description.
+    fn walk(
+        cmd: &clap::Command,
+        path: &str,
+        subs: &mut Vec<String>,
+        undocumented: &mut Vec<String>,
+    ) {
+        for arg in cmd.get_arguments() {
+            let id = arg.get_id().as_str();
+            if id == "help" || id == "version" {
+                continue;
+            }
+            if arg.get_help().is_none() && arg.get_long_help().is_none() {
+                undocumented.push(format!("{path} {id}"));
+            }
+        }
+        for sub in cmd.get_subcommands() {
+            let p = format!("{path} {}", sub.get_name());
+            if sub.get_subcommands().next().is_none() {
+                subs.push(p.clone());
+            }
+            walk(sub, &p, subs, undocumented);
+        }
+    }
+
+    #[test]
+    fn every_flag_has_a_description_and_readme_lists_every_subcommand() {
+        let (mut subs, mut undocumented) = (Vec::new(), Vec::new());
+        walk(&super::Cli::command(), "m2rc", &mut subs, &mut undocumented);
+        assert!(
+            undocumented.is_empty(),
+            "arguments without --help text: {undocumented:?}"
+        );
+        let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
+            .expect("README.md");
+        let table: String = readme
+            .lines()
+            .filter(|l| l.starts_with("| `m2rc"))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let missing: Vec<&String> = subs
+            .iter()
+            .filter(|s| !table.contains(s.as_str()))
+            .collect();
+        assert!(
+            missing.is_empty(),
+            "README's command table lacks {missing:?}"
+        );
+    }
 
     #[test]
     fn a_cause_repeated_in_its_context_is_printed_once() {

@@ -248,7 +248,7 @@ fn unusable_inputs_are_named_and_exit_non_zero() {
         ),
         (
             &["compile", plain, "--map", "demo", "--start", "99999,5"],
-            "E0509",
+            "is outside the map",
         ),
     ];
     for (args, named) in cases {

@@ -147,7 +147,7 @@ pub enum StageScope {
 pub struct Place {
     #[serde(flatten)]
     pub kind: PlaceKind,
-    /// Human-readable name for summaries and pictures (`bed #12 in bedroom 3`).
+    /// Human-readable name for summaries and pictures (`bed #12 (bedroom_2)`: rooms by the map's own names).
     pub label: String,
     /// Object footprint, room cells (traversable or not), or region cells.
     pub cells: CellSet,

@@ -37,6 +37,12 @@ pub trait Method: Send + Sync {
     /// The name used on the command line, in prediction records and in report rows.
     fn name(&self) -> &str;
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError>;
+    /// Everything that decides this method's answers, as JSON: the run directory's method
+    /// fingerprint is its hash, so a resume with another configuration is refused. A method with
+    /// settings (a model, an endpoint, repair rounds, a planner) adds them as keys.
+    fn config(&self) -> serde_json::Value {
+        serde_json::json!({"method": self.name(), "m2rc": env!("CARGO_PKG_VERSION")})
+    }
 }
 
 /// A map prepared once for the many episodes run on it: the evaluator's view of it, and the

@@ -18,6 +18,15 @@ impl Method for Oracle {
         if self.soft { "oracle" } else { "hard-only" }
     }
 
+    fn config(&self) -> serde_json::Value {
+        serde_json::json!({
+            "method": self.name(),
+            "m2rc": env!("CARGO_PKG_VERSION"),
+            "preferences": self.soft,
+            "planner": "sequential",
+        })
+    }
+
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
         let gold = episode.m2rc_gold_program.as_deref().ok_or_else(|| {
             MethodError("the episode has no gold program (`m2rc_gold_program`)".into())

@@ -107,7 +107,10 @@ pub fn episode_png(
         title: Some(label.to_string()),
         ..RenderOptions::default()
     };
-    render_map(map, &opts)
+    // The picture's start is the episode's, not the map's own start pose.
+    let mut shown = map.clone();
+    shown.start = crate::methods::start_cell(map, episode).ok();
+    render_map(&shown, &opts)
         .map(|o| o.png)
         .map_err(|e| e.to_string())
 }

@@ -7,38 +7,76 @@ pub mod plot;
 pub mod score;
 pub mod table;
 
-use crate::runner::{RunError, read_records, read_run_manifest};
+use crate::rundir::collect::collect;
+use crate::runner::RunError;
 use serde_json::Value;
 use std::path::Path;
 
-/// The records of one method, read from a run directory (merged, or a single shard).
-#[derive(Clone, Debug)]
+/// The records of one method, read from one or more run directories (merged, or shards).
+#[derive(Clone, Debug, Default)]
 pub struct MethodRun {
     pub method: String,
     pub records: Vec<Value>,
+    /// Episodes with a scored record.
+    pub present: usize,
+    /// Episodes a complete run of the method holds (the suite's split).
+    pub expected: usize,
 }
 
-/// Reads a run directory. Several directories of the same method (e.g. unmerged shards) are
-/// combined by [`load_runs`].
-pub fn load_run(dir: &Path) -> Result<MethodRun, RunError> {
-    let manifest = read_run_manifest(dir)?;
-    let records = read_records(dir)?;
-    Ok(MethodRun {
-        method: manifest.method,
-        records,
-    })
+impl MethodRun {
+    pub fn is_complete(&self) -> bool {
+        self.present >= self.expected
+    }
 }
 
-/// Reads run directories, keeping the order methods first appear in and merging directories of
-/// the same method.
+/// How strictly [`load_runs_with`] reads.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LoadOptions {
+    /// Report methods whose runs lack episodes (the table then says so) instead of refusing.
+    pub allow_incomplete: bool,
+}
+
+/// Reads run directories strictly: every record valid, every method complete.
 pub fn load_runs(dirs: &[impl AsRef<Path>]) -> Result<Vec<MethodRun>, RunError> {
-    let mut runs: Vec<MethodRun> = Vec::new();
-    for d in dirs {
-        let run = load_run(d.as_ref())?;
-        match runs.iter_mut().find(|r| r.method == run.method) {
-            Some(existing) => existing.records.extend(run.records),
-            None => runs.push(run),
+    load_runs_with(dirs, LoadOptions::default())
+}
+
+/// Reads run directories, keeping the order methods first appear in and combining directories
+/// of the same method (each episode once, a directory named twice once). Every record is
+/// validated; an incomplete method is refused unless `opts.allow_incomplete`.
+pub fn load_runs_with(
+    dirs: &[impl AsRef<Path>],
+    opts: LoadOptions,
+) -> Result<Vec<MethodRun>, RunError> {
+    let methods = collect(dirs)?;
+    let mut runs = Vec::new();
+    let mut incomplete = Vec::new();
+    for m in methods {
+        if !m.is_complete() {
+            incomplete.push(format!(
+                "`{}` has {} of {} episodes ({})",
+                m.method,
+                m.present(),
+                m.expected,
+                m.dirs
+                    .iter()
+                    .map(|d| d.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
         }
+        runs.push(MethodRun {
+            method: m.method.clone(),
+            present: m.present(),
+            expected: m.expected,
+            records: m.records.into_values().collect(),
+        });
+    }
+    if !incomplete.is_empty() && !opts.allow_incomplete {
+        return Err(RunError::Invalid(format!(
+            "incomplete run(s): {}; resume them, give every shard, or pass --allow-incomplete to report what is there",
+            incomplete.join("; ")
+        )));
     }
     Ok(runs)
 }

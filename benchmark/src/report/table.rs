@@ -64,6 +64,9 @@ impl Block {
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct MethodRow {
     pub method: String,
+    /// Episodes with a scored record, and episodes a complete run holds.
+    pub episodes_present: usize,
+    pub episodes_expected: usize,
     pub easy: Block,
     pub hard: Block,
     pub overall: Block,
@@ -126,6 +129,8 @@ pub fn table(runs: &[MethodRun]) -> Table {
             .iter()
             .map(|run| MethodRow {
                 method: run.method.clone(),
+                episodes_present: run.present,
+                episodes_expected: run.expected,
                 easy: block(run.records.iter().filter(|r| difficulty(r) == "easy")),
                 hard: block(run.records.iter().filter(|r| difficulty(r) == "hard")),
                 overall: block(run.records.iter()),
@@ -167,12 +172,37 @@ pub fn markdown(t: &Table) -> String {
             )
         })
         .collect();
-    out.push_str(&format!("\nEpisodes — {}.\n\n{NOTE}\n", counts.join("; ")));
+    out.push_str(&format!("\nEpisodes — {}.\n", counts.join("; ")));
+    let coverage: Vec<String> = t
+        .methods
+        .iter()
+        .map(|r| {
+            format!(
+                "{}: {} / {}",
+                r.method, r.episodes_present, r.episodes_expected
+            )
+        })
+        .collect();
+    out.push_str(&format!(
+        "\nEpisodes present / expected — {}.\n",
+        coverage.join("; ")
+    ));
+    for r in t
+        .methods
+        .iter()
+        .filter(|r| r.episodes_present < r.episodes_expected)
+    {
+        out.push_str(&format!(
+            "\n**INCOMPLETE: `{}` has {} of {} episodes; its row averages only those and is not comparable with complete rows.**\n",
+            r.method, r.episodes_present, r.episodes_expected
+        ));
+    }
+    out.push_str(&format!("\n{NOTE}\n"));
     out
 }
 
 pub fn csv(t: &Table) -> String {
-    let mut out = String::from("method,block,episodes");
+    let mut out = String::from("method,block,episodes,present,expected");
     for k in KEYS {
         out.push(',');
         out.push_str(k);
@@ -184,7 +214,13 @@ pub fn csv(t: &Table) -> String {
             ("hard", &row.hard),
             ("overall", &row.overall),
         ] {
-            out.push_str(&format!("{},{name},{}", csv_field(&row.method), b.episodes));
+            out.push_str(&format!(
+                "{},{name},{},{},{}",
+                csv_field(&row.method),
+                b.episodes,
+                row.episodes_present,
+                row.episodes_expected
+            ));
             for k in KEYS {
                 out.push(',');
                 if let Some(x) = b.get(k) {

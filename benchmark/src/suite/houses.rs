@@ -70,14 +70,22 @@ fn read_file(file: &Path, out: &mut Vec<House>) -> Result<(), SuiteError> {
     } else {
         Box::new(BufReader::new(raw))
     };
+    // Houses are named `<file>#<i>` with `i` the 0-based index among the file's non-empty
+    // lines, exactly what `m2rc map import <file> --index i` (or `<file>#i`) takes.
+    let mut index = 0usize;
     for (i, line) in reader.lines().enumerate() {
         let line = line.map_err(|e| SuiteError::io(file, e))?;
         if line.trim().is_empty() {
             continue;
         }
-        let json: Value = serde_json::from_str(&line)
-            .map_err(|e| SuiteError::Input(format!("{name}:{}: not valid JSON: {e}", i + 1)))?;
-        push(out, format!("{name}:{}", i + 1), json)?;
+        let json: Value = serde_json::from_str(&line).map_err(|e| {
+            SuiteError::Input(format!(
+                "{name}#{index} (line {}): not valid JSON: {e}",
+                i + 1
+            ))
+        })?;
+        push(out, format!("{name}#{index}"), json)?;
+        index += 1;
     }
     Ok(())
 }

@@ -1,12 +1,12 @@
 //! `m2rc bench run | merge | report`: run a method over a suite (parallel, resumable, shardable),
 //! merge shard directories, and report the paper's tables and plots.
 
-use crate::io::write_atomic;
+use crate::io::{unusable, write_atomic};
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand, ValueEnum};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::methods::{METHOD_NAMES, method_by_name};
-use m2rc_benchmark::report::{self, episode_png::episode_png, load_runs, table};
+use m2rc_benchmark::report::{self, LoadOptions, episode_png::episode_png, load_runs_with, table};
 use m2rc_benchmark::runner::{self, RunOptions, Shard};
 use m2rc_benchmark::suite::SuiteManifest;
 use serde_json::Value;
@@ -41,16 +41,17 @@ pub struct RunArgs {
     /// Which scenes: eval (the paper's evaluation scenes), dev or all.
     #[arg(long, default_value = "eval")]
     pub split: String,
-    /// Worker threads (default: all cores).
+    /// Worker threads (default: all cores; more than the machine's cores is capped to them).
     #[arg(long)]
     pub threads: Option<usize>,
 }
 
 #[derive(Args)]
 pub struct MergeArgs {
-    /// Shard run directories.
+    /// Shard run directories: every shard k/N of one run (each complete, same fingerprint).
     #[arg(required = true)]
     pub shards: Vec<PathBuf>,
+    /// The merged run directory.
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -64,14 +65,18 @@ pub enum ReportFormat {
 
 #[derive(Args)]
 pub struct ReportArgs {
-    /// Run directories, one or more per method.
+    /// Run directories, one or more per method (a directory named twice is read once).
     #[arg(required = true)]
     pub runs: Vec<PathBuf>,
+    /// Report format: Markdown tables (md), CSV rows (csv) or JSON (json).
     #[arg(long, value_enum, default_value_t = ReportFormat::Md)]
     pub format: ReportFormat,
-    /// Write the report here instead of standard output.
+    /// Write the report here instead of standard output (`-`: standard output).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Report methods whose runs lack episodes (the table says so) instead of refusing.
+    #[arg(long)]
+    pub allow_incomplete: bool,
     /// Write the difficulty-analysis bar charts (PNG) into this directory.
     #[arg(long)]
     pub plots: Option<PathBuf>,
@@ -81,6 +86,7 @@ pub struct ReportArgs {
     /// Suite directory, needed with --episode.
     #[arg(long)]
     pub suite: Option<PathBuf>,
+    /// Directory for the --episode pictures.
     #[arg(long, default_value = ".")]
     pub png_dir: PathBuf,
 }
@@ -102,11 +108,11 @@ fn show_progress() -> bool {
 
 fn run_method(a: RunArgs) -> Result<ExitCode> {
     let Some(method) = method_by_name(&a.method) else {
-        bail!(
+        return Err(unusable(anyhow::anyhow!(
             "--method: unknown method `{}` (known: {})",
             a.method,
             METHOD_NAMES.join(", ")
-        );
+        )));
     };
     let opts = RunOptions {
         suite: a.suite,
@@ -117,26 +123,48 @@ fn run_method(a: RunArgs) -> Result<ExitCode> {
     };
     let summary = match a.threads {
         Some(t) => {
-            let pool = rayon_pool(t)?;
+            let pool = rayon_pool(capped_threads(t))?;
             pool.install(|| runner::run(method.as_ref(), &opts))?
         }
         None => runner::run(method.as_ref(), &opts)?,
     };
-    println!(
-        "{}: {} episodes ({} written, {} already done), {} without a route from the method; records in {}",
+    if summary.temps_removed > 0 {
+        eprintln!(
+            "note: removed {} temporary file(s) left by an interrupted run",
+            summary.temps_removed
+        );
+    }
+    for r in &summary.recomputed {
+        eprintln!("warning: recomputed {r}");
+    }
+    crate::io::stdout(&format!(
+        "{}: {} episodes ({} written, {} already done, {} recomputed), {} without a route from the method; records in {}\n",
         method.name(),
         summary.episodes,
         summary.written,
         summary.skipped,
+        summary.recomputed.len(),
         summary.method_failures,
         a.out.display()
-    );
+    ))?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// `--threads` capped to the cores the machine has (a huge value would start that many OS
+/// threads and stall the machine).
+fn capped_threads(requested: usize) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if requested > cores {
+        eprintln!("note: --threads {requested} is more than the {cores} cores here; using {cores}");
+        cores
+    } else {
+        requested
+    }
 }
 
 fn rayon_pool(threads: usize) -> Result<rayon::ThreadPool> {
     if threads == 0 {
-        bail!("--threads must be at least 1");
+        return Err(unusable(anyhow::anyhow!("--threads must be at least 1")));
     }
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -146,18 +174,23 @@ fn rayon_pool(threads: usize) -> Result<rayon::ThreadPool> {
 
 fn merge(a: MergeArgs) -> Result<ExitCode> {
     let s = runner::merge(&a.shards, &a.out)?;
-    println!(
-        "merged {} shards: {} records ({} duplicates identical) into {}",
+    crate::io::stdout(&format!(
+        "merged {} shards: {} records ({} duplicates identical) into {}\n",
         s.shards,
         s.records,
         s.duplicates,
         a.out.display()
-    );
+    ))?;
     Ok(ExitCode::SUCCESS)
 }
 
 fn report_cmd(a: ReportArgs) -> Result<ExitCode> {
-    let runs = load_runs(&a.runs)?;
+    let runs = load_runs_with(
+        &a.runs,
+        LoadOptions {
+            allow_incomplete: a.allow_incomplete,
+        },
+    )?;
     let text = match a.format {
         ReportFormat::Md => report::markdown_report(&runs),
         ReportFormat::Csv => table::csv(&table::table(&runs)),
@@ -165,7 +198,7 @@ fn report_cmd(a: ReportArgs) -> Result<ExitCode> {
     };
     match &a.out {
         Some(path) => write_atomic(path, text.as_bytes())?,
-        None => print!("{text}"),
+        None => crate::io::stdout(&text)?,
     }
     if let Some(dir) = &a.plots {
         for p in report::write_plots(&runs, dir)? {

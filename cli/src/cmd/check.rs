@@ -5,12 +5,12 @@
 //! terminal); `--format json` prints one JSON array to standard output (schema in
 //! `docs/diagnostics.md`).
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Args, ValueEnum};
 use m2rc_compiler::check;
 use m2rc_compiler::diagnostic::{render_text, render_text_colored, to_json};
 use m2rc_stdlib::vocab::Vocabulary;
-use std::io::{IsTerminal, Read};
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -25,7 +25,7 @@ pub struct CheckArgs {
     /// The program to check; `-` reads standard input.
     #[arg(value_name = "FILE")]
     pub file: PathBuf,
-    /// Check category names against this map's vocabulary (a map or house file, or `demo`)
+    /// Check category names against this map's vocabulary (a map or house file, `demo`, or `-`)
     /// instead of the benchmark's 97 object and 4 room categories.
     #[arg(long, value_name = "MAP")]
     pub map: Option<String>,
@@ -37,14 +37,11 @@ pub struct CheckArgs {
 pub fn run(args: CheckArgs) -> Result<ExitCode> {
     let (name, source, vocab) = match inputs(&args) {
         Ok(v) => v,
-        Err(err) => {
-            eprintln!("error: {err:#}");
-            return Ok(ExitCode::from(2));
-        }
+        Err(err) => return Err(crate::io::unusable(err)),
     };
     let result = check(&source, &vocab);
     match args.format {
-        Format::Json => println!("{}", to_json(&result.diagnostics, &source)),
+        Format::Json => crate::io::stdout(&format!("{}\n", to_json(&result.diagnostics, &source)))?,
         Format::Text => {
             let text = if std::io::stderr().is_terminal() {
                 render_text_colored(&result.diagnostics, &name, &source)
@@ -68,21 +65,13 @@ pub fn run(args: CheckArgs) -> Result<ExitCode> {
 
 /// The display name and text of the program, and the vocabulary to check against.
 fn inputs(args: &CheckArgs) -> Result<(String, String, Vocabulary)> {
-    let (name, source) = if args.file.as_os_str() == "-" {
-        let mut s = String::new();
-        std::io::stdin()
-            .read_to_string(&mut s)
-            .context("cannot read standard input")?;
-        ("<stdin>".to_string(), s)
-    } else {
-        let s = std::fs::read_to_string(&args.file)
-            .with_context(|| format!("cannot read {}", args.file.display()))?;
-        (args.file.display().to_string(), s)
-    };
+    let name = crate::io::display_name(&args.file);
+    let source = crate::io::read_to_string(&args.file)?;
+    m2rc_benchmark::limits::check_program_size(&source)
+        .map_err(|m| anyhow::anyhow!("{name}: {m}"))?;
     let vocab = match &args.map {
         Some(m) => {
-            let map =
-                m2rc_stdlib::load::load_map(m).with_context(|| format!("cannot load map {m}"))?;
+            let map = crate::io::load_map(m)?;
             Vocabulary::from_map(&map)
         }
         None => Vocabulary::benchmark(),

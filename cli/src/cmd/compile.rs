@@ -4,12 +4,13 @@
 //! Everything is computed in memory first and files are written only when compilation succeeded,
 //! each atomically, so a failing program never leaves a partial output behind.
 
-use crate::io::{read_to_string, write_atomic};
-use anyhow::{Context, Result, bail};
+use crate::io::{display_name, read_to_string, unusable, write_atomic};
+use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
+use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::pipeline::{CompiledRoute, PipelineOptions, compile_and_plan, stage_ends};
 use m2rc_compiler::diagnostic::{Diagnostic, render_text, to_json};
-use m2rc_compiler::ir::{ConstraintKind, RouteIr, StageScope};
+use m2rc_compiler::ir::{ConstraintKind, Direction, RouteIr, Shape, StageScope};
 use m2rc_planner::PlannerKind;
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::map::SemanticMap;
@@ -20,13 +21,20 @@ use std::process::ExitCode;
 
 #[derive(Args)]
 pub struct CompileArgs {
-    /// The `.m2r` program.
+    /// The `.m2r` program; `-` reads standard input.
     pub file: PathBuf,
-    /// Map file (Map2Route JSON, ProcTHOR house JSON) or `demo`; defaults to the program's
-    /// `// map: ...` first line.
+    /// A Map2Route map, a ProcTHOR house, `demo`, or `-` (standard input); defaults to the
+    /// episode's map in a suite (with --episode), else the program's `// map: ...` first line
+    /// (a path, `demo`, or a suite map key such as `procthor/001_valunseen`).
     #[arg(long)]
     pub map: Option<String>,
-    /// Where to write the route (or the RouteIR with `--emit ir`).
+    /// Plan from this episode's start (a Map2Route instruction JSON; `-` reads standard input),
+    /// and refuse a map the episode was not made for. A gold program inside a suite
+    /// (`programs/<map_id>/instruction_<id>.m2r`) uses its episode without this flag.
+    #[arg(long, value_name = "INSTRUCTION.json")]
+    pub episode: Option<PathBuf>,
+    /// Where to write the route (or the RouteIR with `--emit ir`); `-` writes standard output
+    /// (the summary then goes to standard error).
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
     /// What `-o` receives (`ir` without `-o` prints the RouteIR to stdout).
@@ -35,9 +43,11 @@ pub struct CompileArgs {
     /// Draw the route over the map into this PNG.
     #[arg(long)]
     pub png: Option<PathBuf>,
+    /// Route planner: sequential (stage by stage), global (all stages at once) or shortest
+    /// (ignore preferences).
     #[arg(long, value_enum, default_value_t = Planner::Sequential)]
     pub planner: Planner,
-    /// Start cell `row,col` (default: the map's start).
+    /// Start cell `row,col` (default: the episode's start, else the map's start).
     #[arg(long, value_parser = parse_cell)]
     pub start: Option<Cell>,
     /// Summary and diagnostics as text or as JSON.
@@ -91,11 +101,15 @@ pub fn map_line(source: &str) -> Option<&str> {
         .filter(|s| !s.is_empty())
 }
 
-/// Resolves a map argument: `demo`, a path as given (relative to the working directory), or
-/// relative to the program's folder and its parents.
+/// Resolves a map argument: `demo`, a path as given (relative to the working directory), a
+/// suite map key (`procthor/<map_id>`) of the suite the program is in, or a path relative to
+/// the program's folder and its parents.
 fn resolve_map(arg: &str, program: &Path) -> String {
-    if arg == "demo" || Path::new(arg).exists() {
+    if arg == "demo" || arg == "-" || Path::new(arg).exists() {
         return arg.to_string();
+    }
+    if let Some(p) = crate::suite_layout::map_for_key(program, arg) {
+        return p.to_string_lossy().into_owned();
     }
     let mut dir = program.parent();
     while let Some(d) = dir {
@@ -110,22 +124,76 @@ fn resolve_map(arg: &str, program: &Path) -> String {
 
 pub fn run(args: CompileArgs) -> Result<ExitCode> {
     let source = read_to_string(&args.file)?;
-    let file_name = args.file.display().to_string();
-    let map_arg = match args.map.as_deref().or_else(|| map_line(&source)) {
-        Some(m) => resolve_map(m, &args.file),
-        None => bail!(
-            "no map: pass `--map <map.json|demo>` or start {file_name} with `// map: <path|demo>`"
-        ),
+    let file_name = display_name(&args.file);
+    m2rc_benchmark::limits::check_program_size(&source)
+        .map_err(|m| unusable(anyhow::anyhow!("{file_name}: {m}")))?;
+    // The episode: given, or the gold program's own inside a suite.
+    let episode_path = match &args.episode {
+        Some(p) => Some(p.clone()),
+        None if !crate::io::is_dash(&args.file) => {
+            crate::suite_layout::episode_for_program(&args.file)
+        }
+        None => None,
     };
-    let map = m2rc_stdlib::load::load_map(&map_arg)
-        .with_context(|| format!("cannot load map `{map_arg}`"))?;
+    let episode = match &episode_path {
+        Some(p) => {
+            let name = display_name(p);
+            let ep = Episode::from_json_str(&read_to_string(p)?, &name)?;
+            m2rc_benchmark::episode_check::check_episode(&ep, None, &name).map_err(unusable)?;
+            Some((name, p.clone(), ep))
+        }
+        None => None,
+    };
+    let episode_map = || {
+        let (_, path, ep) = episode.as_ref()?;
+        let key = ep.map_id.as_deref()?;
+        crate::suite_layout::map_for_key(path, key).map(|p| p.to_string_lossy().into_owned())
+    };
+    let map_arg = match args.map.clone().or_else(episode_map) {
+        Some(m) => m,
+        None => match map_line(&source) {
+            Some(m) => resolve_map(m, &args.file),
+            None => {
+                return Err(unusable(anyhow::anyhow!(
+                    "no map: pass `--map <map.json|demo>` or start {file_name} with `// map: <path|demo>`"
+                )));
+            }
+        },
+    };
+    let (map, kind) = crate::io::load_map_kind(&map_arg)?;
+    let mut start = args.start;
+    if let Some((name, _, ep)) = &episode {
+        m2rc_benchmark::episode_check::check_episode(ep, Some(map.n()), name).map_err(unusable)?;
+        if kind == m2rc_stdlib::load::SourceKind::Map2RouteMap {
+            crate::cmd::eval::check_same_map(ep, name, Some(map.map_id.as_str()), &map_arg)?;
+        }
+        if start.is_none() {
+            let cell = m2rc_benchmark::methods::start_cell(&map, ep)
+                .map_err(|e| unusable(anyhow::anyhow!("{name}: {e}")))?;
+            start = Some(cell);
+            if args.episode.is_none() {
+                eprintln!("note: planning from the start of the episode {name}");
+            }
+        }
+    }
+    if let Some(s) = start {
+        let n = map.n();
+        if s.row as usize >= n || s.col as usize >= n {
+            return Err(unusable(anyhow::anyhow!(
+                "--start {},{} is outside the map: the grid is {n}x{n} cells (rows and columns 0..{})",
+                s.row,
+                s.col,
+                n.saturating_sub(1)
+            )));
+        }
+    }
     let opts = PipelineOptions {
         planner: match args.planner {
             Planner::Sequential => PlannerKind::Sequential,
             Planner::Global => PlannerKind::Global,
             Planner::Shortest => PlannerKind::Shortest,
         },
-        start: args.start,
+        start,
         ..PipelineOptions::default()
     };
     let compiled = match compile_and_plan(&source, &map, &opts) {
@@ -140,7 +208,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;
     let png = match &args.png {
         Some(_) => Some(
-            render_map(&map, &render_options(&compiled))
+            render_map(&shown_map(&map, &compiled), &render_options(&compiled))
                 .context("cannot render the route")?
                 .png,
         ),
@@ -154,29 +222,51 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     if let (Some(path), Some(png)) = (&args.png, png) {
         write_atomic(path, &png)?;
     }
+    // With `-o -` standard output holds the route; the summary goes to standard error.
+    let to_stderr = args.output.as_deref().is_some_and(crate::io::is_dash);
+    let say = |text: String| -> Result<()> {
+        if to_stderr {
+            eprint!("{text}");
+            Ok(())
+        } else {
+            crate::io::stdout(&text)
+        }
+    };
     match args.format {
-        Format::Json => println!(
-            "{}",
+        Format::Json => say(format!(
+            "{}\n",
             serde_json::to_string_pretty(&summary_json(&compiled, &source))?
-        ),
+        ))?,
         Format::Text => {
             if !compiled.warnings.is_empty() {
                 eprint!("{}", render_text(&compiled.warnings, &file_name, &source));
             }
             if args.emit == Emit::Ir && args.output.is_none() {
-                println!("{ir_json}");
+                say(format!("{ir_json}\n"))?;
             } else {
-                print!("{}", summary_text(&compiled));
+                say(summary_text(&compiled))?;
             }
         }
     }
     Ok(ExitCode::SUCCESS)
 }
 
+/// The map as the picture shows it: its start is where the route starts (the episode's or
+/// `--start`), not also the map's own start pose.
+fn shown_map(map: &SemanticMap, c: &CompiledRoute) -> SemanticMap {
+    let mut shown = map.clone();
+    if let Some(&s) = c.route.trajectory.first() {
+        shown.start = Some(s);
+    }
+    shown
+}
+
 fn print_diagnostics(diags: &[Diagnostic], file_name: &str, source: &str, format: Format) {
     match format {
         Format::Text => eprint!("{}", render_text(diags, file_name, source)),
-        Format::Json => println!("{}", to_json(diags, source)),
+        Format::Json => {
+            let _ = crate::io::stdout(&format!("{}\n", to_json(diags, source)));
+        }
     }
 }
 
@@ -212,9 +302,16 @@ pub fn route_document(c: &CompiledRoute, map: &SemanticMap) -> serde_json::Value
     })
 }
 
-fn constraint_line(ir: &RouteIr, i: usize) -> String {
+/// Metres with two decimals, never `-0.00`.
+fn metres(x: f64) -> String {
+    let x = if x.abs() < 0.005 { 0.0 } else { x };
+    format!("{x:.2} m")
+}
+
+/// What a constraint asks for, in the language's own words (`follow_wall`, not `followwall`).
+fn constraint_what(ir: &RouteIr, i: usize) -> String {
     let c = &ir.constraints[i];
-    let what = match &c.kind {
+    match &c.kind {
         ConstraintKind::Avoid { place } => format!("avoid {}", place.label),
         ConstraintKind::Near { reference } => format!("near {}", reference.label),
         ConstraintKind::Far { reference } => format!("far from {}", reference.label),
@@ -226,14 +323,29 @@ fn constraint_line(ir: &RouteIr, i: usize) -> String {
             direction,
             around,
             waypoints,
-        } => format!(
-            "{shape:?} {direction:?} around {} ({} waypoints)",
-            around.label,
-            waypoints.len()
-        )
-        .to_lowercase(),
-        ConstraintKind::Clearance { distance_m } => format!("clearance {distance_m} m"),
-    };
+        } => {
+            let shape = match shape {
+                Shape::Circle => "circle",
+                Shape::FollowWall => "follow_wall",
+                Shape::Patrol => "patrol",
+            };
+            let direction = match direction {
+                Direction::Clockwise => "clockwise",
+                Direction::Counterclockwise => "counterclockwise",
+            };
+            format!(
+                "{shape} {direction} around {} ({} waypoints)",
+                around.label,
+                waypoints.len()
+            )
+        }
+        ConstraintKind::Clearance { distance_m } => format!("clearance {}", metres(*distance_m)),
+    }
+}
+
+fn constraint_line(ir: &RouteIr, i: usize) -> String {
+    let c = &ir.constraints[i];
+    let what = constraint_what(ir, i);
     match &c.spatial_scope {
         Some(s) => format!("{} {what} within {}", c.id, s.label),
         None => format!("{} {what}", c.id),
@@ -242,10 +354,10 @@ fn constraint_line(ir: &RouteIr, i: usize) -> String {
 
 pub fn summary_text(c: &CompiledRoute) -> String {
     let mut out = format!(
-        "route on `{}`: {} stage(s), {:.2} m, planner {}{}\n",
+        "route on `{}`: {} stage(s), {}, planner {}{}\n",
         c.ir.map_id,
         c.ir.stages.len(),
-        c.route.length_m,
+        metres(c.route.length_m),
         c.route.planner,
         if c.ir.route_bindings.is_empty() {
             String::new()
@@ -260,10 +372,11 @@ pub fn summary_text(c: &CompiledRoute) -> String {
     for (i, s) in c.ir.stages.iter().enumerate() {
         let len = c.route.segments.get(i).map_or(0.0, |x| x.length_m);
         out.push_str(&format!(
-            "  {}. {} -> {} ({len:.2} m)\n",
+            "  {}. {} -> {} ({})\n",
             i + 1,
             s.name,
-            s.target.label
+            s.target.label,
+            metres(len)
         ));
         for p in &s.passes {
             out.push_str(&format!("       pass {}\n", p.place.label));
@@ -318,7 +431,7 @@ pub fn render_options(c: &CompiledRoute) -> RenderOptions {
         kind,
         label: Some(label),
     };
-    for con in &c.ir.constraints {
+    for (ci, con) in c.ir.constraints.iter().enumerate() {
         let scope = match &con.stage_scope {
             StageScope::Global => String::new(),
             StageScope::Stages(s) => {
@@ -335,7 +448,11 @@ pub fn render_options(c: &CompiledRoute) -> RenderOptions {
             overlays.push(region(
                 s.cells.cells(),
                 RegionKind::Scope,
-                format!("{} scope{scope}", con.id),
+                format!(
+                    "where {} applies: {}{scope}",
+                    constraint_what(&c.ir, ci),
+                    s.label
+                ),
             ));
         }
         match &con.kind {
@@ -433,5 +550,49 @@ mod tests {
         assert_eq!(map_line("let a = 1"), None);
         assert_eq!(parse_cell("3, 4"), Ok(Cell::new(3, 4)));
         assert!(parse_cell("3").is_err());
+    }
+
+    fn compile_example(name: &str) -> CompiledRoute {
+        let path = format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"));
+        let source = std::fs::read_to_string(path).unwrap();
+        let map = m2rc_stdlib::demo::demo_map().unwrap();
+        compile_and_plan(&source, &map, &PipelineOptions::default()).unwrap()
+    }
+
+    /// Labels a user reads: the map's room names, scopes named by what they scope, the
+    /// language's own shape words, no negative zero.
+    #[test]
+    fn labels_name_rooms_and_scopes_as_users_see_them() {
+        let c = compile_example("05_closer_to_table.m2r");
+        let labels: Vec<String> = render_options(&c)
+            .overlays
+            .iter()
+            .filter_map(|o| match o {
+                Overlay::Region { label, .. } => label.clone(),
+                _ => None,
+            })
+            .collect();
+        let scope = labels
+            .iter()
+            .find(|l| l.starts_with("where closer to"))
+            .unwrap_or_else(|| panic!("no scope label in {labels:?}"));
+        assert!(scope.contains("living_room"), "{scope}");
+        assert!(!labels.iter().any(|l| l.contains("c0 scope")), "{labels:?}");
+        let text = summary_text(&compile_example("07_follow_wall.m2r"));
+        assert!(
+            text.contains("follow_wall") && !text.contains("followwall"),
+            "{text}"
+        );
+        assert_eq!(metres(-0.001), "0.00 m");
+        for line in summary_text(&c).lines() {
+            let bad = ["bathroom ", "bedroom ", "kitchen ", "living_room "]
+                .iter()
+                .any(|w| {
+                    line.match_indices(w).any(|(i, _)| {
+                        line[i + w.len()..].starts_with(|ch: char| ch.is_ascii_digit())
+                    })
+                });
+            assert!(!bad, "room id instead of the map's name: {line}");
+        }
     }
 }

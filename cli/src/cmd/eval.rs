@@ -1,14 +1,15 @@
 //! `m2rc eval`: score one route against one Map2Route episode with the exact reference
 //! evaluator (HCS, PL, segment-wise SPL, raw soft-constraint values).
 
+use crate::io::{display_name, read_to_string, unusable};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::metrics::{EpisodeMetrics, EvalMap, EvalOptions, evaluate};
-use m2rc_benchmark::route::read_route;
+use m2rc_benchmark::route::parse_route_text;
+use m2rc_stdlib::load::SourceKind;
 use serde_json::{Value, json};
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -23,15 +24,18 @@ pub enum EvalFormat {
 
 #[derive(Args)]
 pub struct EvalArgs {
-    /// The map JSON (a full Map2Route map, or a minimal one with grid_size and layers).
-    #[arg(long, value_name = "MAP.json")]
-    pub map: PathBuf,
-    /// The episode (Map2Route instruction JSON).
+    /// The map: a Map2Route map, a ProcTHOR house, `demo`, a minimal map JSON with grid_size and
+    /// layers, or `-` for standard input.
+    #[arg(long, value_name = "MAP")]
+    pub map: String,
+    /// The episode (Map2Route instruction JSON); `-` reads standard input.
     #[arg(long, value_name = "INSTRUCTION.json")]
     pub episode: PathBuf,
-    /// The route: a [[row, col], ...] list, or an object with `trajectory`.
+    /// The route: a [[row, col], ...] list, or an object with `trajectory`; `-` reads standard
+    /// input.
     #[arg(long, value_name = "ROUTE.json")]
     pub route: PathBuf,
+    /// Print a readable table (text) or one JSON object {"HCS", "PL", "SPL", "soft"} (json).
     #[arg(long, value_enum, default_value_t = EvalFormat::Text)]
     pub format: EvalFormat,
     /// Print the full reference-style metrics object (details of every segment and soft
@@ -41,24 +45,78 @@ pub struct EvalArgs {
     /// Paper variant: count each region waypoint once (the reference code counts repeats).
     #[arg(long)]
     pub dedup_region_waypoints: bool,
+    /// Score even when the episode names another map than the one given (by default a mismatch
+    /// of the episode's `map_id` and the map's id is refused).
+    #[arg(long)]
+    pub any_map: bool,
+}
+
+/// The evaluator's view of a map argument, and the map's id when it is a Map2Route map (a
+/// house's or the demo's id is made up by the importer, so it cannot be checked).
+fn eval_map(arg: &str) -> Result<(EvalMap, Option<String>)> {
+    let staged = crate::io::MapArg::new(arg)?;
+    match crate::io::load_map_kind(&staged.arg) {
+        Ok((map, kind)) => {
+            let id = (kind == SourceKind::Map2RouteMap && !map.map_id.is_empty())
+                .then(|| map.map_id.clone());
+            Ok((EvalMap::from_semantic_map(&map), id))
+        }
+        Err(load_err) => {
+            // A minimal map (grid_size and layers only) is not a full Map2Route map.
+            let Ok(text) = std::fs::read_to_string(&staged.arg) else {
+                return Err(load_err);
+            };
+            let Ok(value) = serde_json::from_str::<Value>(&text) else {
+                return Err(load_err);
+            };
+            let map = EvalMap::from_json(&value).map_err(|_| load_err)?;
+            let id = value
+                .get("map_id")
+                .and_then(Value::as_str)
+                .map(str::to_string);
+            Ok((map, id))
+        }
+    }
+}
+
+/// The last `/`-separated part of a map id (`procthor/001_valunseen` -> `001_valunseen`).
+pub fn map_id_tail(id: &str) -> &str {
+    id.rsplit('/').next().unwrap_or(id)
+}
+
+/// Refuses an episode made for another map than `map_id`.
+pub fn check_same_map(
+    episode: &Episode,
+    episode_name: &str,
+    map_id: Option<&str>,
+    map_name: &str,
+) -> Result<()> {
+    if let (Some(ep), Some(map)) = (episode.map_id.as_deref(), map_id)
+        && map_id_tail(ep) != map_id_tail(map)
+    {
+        anyhow::bail!(
+            "{episode_name} is an episode of map `{ep}`, but {map_name} is map `{map}`; give the episode's own map (or --any-map to score anyway)"
+        );
+    }
+    Ok(())
 }
 
 pub fn run(args: EvalArgs) -> Result<ExitCode> {
-    let map_file = args.map.display().to_string();
-    let text =
-        std::fs::read_to_string(&args.map).with_context(|| format!("{map_file}: cannot read"))?;
-    let map_json: Value =
-        serde_json::from_str(&text).with_context(|| format!("{map_file}: not valid JSON"))?;
-    drop(text);
-    let map = EvalMap::from_json(&map_json).with_context(|| map_file.clone())?;
-    drop(map_json);
-    let episode = Episode::read(&args.episode)?;
-    let route = read_route(&args.route, map.n())?;
+    let (map, map_id) = eval_map(&args.map)?;
+    let ep_name = display_name(&args.episode);
+    let episode = Episode::from_json_str(&read_to_string(&args.episode)?, &ep_name)?;
+    m2rc_benchmark::episode_check::check_episode(&episode, Some(map.n()), &ep_name)
+        .map_err(unusable)?;
+    if !args.any_map {
+        check_same_map(&episode, &ep_name, map_id.as_deref(), &args.map)?;
+    }
+    let route_name = display_name(&args.route);
+    let route = parse_route_text(&read_to_string(&args.route)?, map.n(), &route_name)?;
     let opts = EvalOptions {
         dedup_region_waypoints: args.dedup_region_waypoints,
     };
     let metrics = evaluate(&route, &episode, &map, &opts)
-        .with_context(|| format!("{}: cannot evaluate", args.episode.display()))?;
+        .with_context(|| format!("{ep_name}: cannot evaluate"))?;
 
     let out = if args.full {
         serde_json::to_string_pretty(&metrics)? + "\n"
@@ -68,9 +126,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
             EvalFormat::Text => text_table(&metrics),
         }
     };
-    let mut stdout = std::io::stdout().lock();
-    stdout.write_all(out.as_bytes())?;
-    stdout.flush()?;
+    crate::io::stdout(&out)?;
     Ok(ExitCode::SUCCESS)
 }
 

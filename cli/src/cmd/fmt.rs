@@ -8,7 +8,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use m2rc_compiler::diagnostic::{Diagnostic, render_text};
 use m2rc_grammar::{ParseError, parse, print_with_comments};
-use std::io::{Read, Write};
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -37,6 +37,7 @@ pub fn format_source(source: &str) -> Result<String, Vec<ParseError>> {
 
 pub fn run(args: FmtArgs) -> Result<ExitCode> {
     let mut failed = false;
+    let mut unreadable = false;
     let mut unformatted = Vec::new();
     for path in &args.files {
         let stdin = path.as_os_str() == "-";
@@ -52,7 +53,7 @@ pub fn run(args: FmtArgs) -> Result<ExitCode> {
                 Err(err) => {
                     // Keep going: one unreadable file should not stop the others.
                     eprintln!("error: {err:#}");
-                    failed = true;
+                    unreadable = true;
                     continue;
                 }
             }
@@ -85,14 +86,14 @@ pub fn run(args: FmtArgs) -> Result<ExitCode> {
                 unformatted.push(shown.to_path_buf());
             }
         } else if stdin {
-            std::io::stdout()
-                .write_all(formatted.as_bytes())
-                .context("cannot write standard output")?;
+            crate::io::stdout(&formatted)?;
         } else if formatted != source {
             write_atomic(path, formatted.as_bytes())?;
         }
     }
-    if failed || !unformatted.is_empty() {
+    if unreadable {
+        Ok(ExitCode::from(crate::io::EXIT_UNUSABLE))
+    } else if failed || !unformatted.is_empty() {
         Ok(ExitCode::FAILURE)
     } else {
         Ok(ExitCode::SUCCESS)

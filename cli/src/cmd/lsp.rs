@@ -1,27 +1,28 @@
 //! `m2rc lsp`: the .m2r language server over stdio (for editors). The engine lives in
-//! `m2rc_compiler::lsp`; this shell only opens the transport and picks the vocabulary.
+//! `m2rc_compiler::lsp`; this shell opens the transport (`crate::lsp_stdio`, which bounds message
+//! sizes and answers malformed JSON-RPC) and picks the vocabulary.
+//!
+//! Exit status: 0 after `shutdown` then `exit` (or when the client closes the stream), 1 after an
+//! `exit` without `shutdown`, as the protocol says, or a protocol error.
 
 use anyhow::{Context, Result};
 use clap::Args;
+use m2rc_compiler::lsp::LspError;
 use m2rc_stdlib::vocab::Vocabulary;
 use std::io::IsTerminal;
 use std::process::ExitCode;
 
 #[derive(Args)]
 pub struct LspArgs {
-    /// Check category names against this map's categories (a Map2Route map, a ProcTHOR house, or
-    /// `demo`) instead of the benchmark's 97 object and 4 room categories.
+    /// Check category names against this map's categories (a Map2Route map, a ProcTHOR house,
+    /// `demo`, or `-`) instead of the benchmark's 97 object and 4 room categories.
     #[arg(long)]
     map: Option<String>,
 }
 
 pub fn run(args: LspArgs) -> Result<ExitCode> {
     let vocab = match &args.map {
-        Some(path) => {
-            let map = m2rc_stdlib::load::load_map(path)
-                .with_context(|| format!("cannot load map {path}"))?;
-            Vocabulary::from_map(&map)
-        }
+        Some(path) => Vocabulary::from_map(&crate::io::load_map(path)?),
         None => Vocabulary::benchmark(),
     };
     if std::io::stdin().is_terminal() {
@@ -30,9 +31,13 @@ pub fn run(args: LspArgs) -> Result<ExitCode> {
              stdout. Configure your editor to start `m2rc lsp` for .m2r files."
         );
     }
-    let (connection, io_threads) = lsp_server::Connection::stdio();
-    m2rc_compiler::lsp::serve(&connection, &vocab).context("language server protocol error")?;
+    let (connection, transport) = crate::lsp_stdio::stdio();
+    let result = m2rc_compiler::lsp::serve(&connection, &vocab);
     drop(connection);
-    io_threads.join().context("language server I/O")?;
-    Ok(ExitCode::SUCCESS)
+    transport.join();
+    match result {
+        Ok(()) => Ok(ExitCode::SUCCESS),
+        Err(LspError::ExitWithoutShutdown) => Ok(ExitCode::from(1)),
+        Err(e) => Err(e).context("language server protocol error"),
+    }
 }

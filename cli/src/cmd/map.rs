@@ -34,7 +34,8 @@ pub enum MapCommand {
 /// Where the map comes from and how a house is turned into a grid.
 #[derive(Args)]
 pub struct SourceArgs {
-    /// A ProcTHOR house (.json, or .jsonl/.jsonl.gz with --index), a Map2Route map, or `demo`.
+    /// A ProcTHOR house (.json, or .jsonl/.jsonl.gz with --index), a Map2Route map, `demo`, or
+    /// `-` (standard input).
     pub map: String,
     /// Which house of a .jsonl(.gz) file, 0-based.
     #[arg(long)]
@@ -75,6 +76,7 @@ pub enum InfoFormat {
 pub struct InfoArgs {
     #[command(flatten)]
     pub source: SourceArgs,
+    /// Print a readable summary (text) or one JSON object (json).
     #[arg(long, value_enum, default_value = "text")]
     pub format: InfoFormat,
 }
@@ -129,8 +131,14 @@ fn load(src: &SourceArgs) -> Result<(MapDocument, SourceKind)> {
         Some(p) => Some(AssetDb::load(p)?),
         None => None,
     };
-    let opts = load_options(src, db.as_ref());
-    let loaded = load_map_with(&src.map, &opts)?;
+    let mut opts = load_options(src, db.as_ref());
+    let staged = crate::io::MapArg::new(&src.map)?;
+    if staged.is_stdin() && opts.import.map_id.is_none() {
+        opts.import.map_id = Some("stdin".into());
+    }
+    let loaded = load_map_with(&staged.arg, &opts).map_err(|e| {
+        crate::io::unusable(anyhow::Error::new(e).context(format!("cannot load map `{}`", src.map)))
+    })?;
     for w in import_warnings(&loaded.0) {
         eprintln!("warning: {}: {w}", src.map);
     }

@@ -30,11 +30,13 @@ pub struct BuildArgs {
     /// Development scenes (the next largest houses after the evaluation scenes).
     #[arg(long, default_value_t = 4)]
     pub dev_scenes: usize,
+    /// Episodes generated per scene.
     #[arg(long, default_value_t = 25)]
     pub episodes_per_scene: usize,
     /// Share of Hard episodes (5-8 constraints); the rest are Easy (2-4).
     #[arg(long, default_value_t = 0.3)]
     pub hard_fraction: f64,
+    /// Random seed; the same houses and seed always give the same suite, byte for byte.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Suite name recorded in the manifest and in run directories.
@@ -47,6 +49,7 @@ pub struct BuildArgs {
     /// Methods that must score HCS = 1 on an episode for it to be kept (comma-separated).
     #[arg(long, default_value = "oracle,shortest", value_delimiter = ',')]
     pub validate: Vec<String>,
+    /// Suite directory to write.
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -64,6 +67,7 @@ pub struct StatsArgs {
     /// Which scenes: eval, dev or all.
     #[arg(long, default_value = "eval")]
     pub split: String,
+    /// Print Markdown tables (md) or the numbers as JSON (json).
     #[arg(long, value_enum, default_value_t = StatsFormat::Md)]
     pub format: StatsFormat,
 }

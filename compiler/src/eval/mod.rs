@@ -213,24 +213,24 @@ impl Grounder<'_, '_> {
         let here = self.here.clone();
         let d = self
             .distance(p, &here, false)
-            .map_or("unknown distance".to_string(), |d| format!("{d:.2} m"));
+            .map_or("unknown distance".to_string(), |d| {
+                format!("{:.2} m", if d.abs() < 0.005 { 0.0 } else { d })
+            });
         let what = match p {
             PlaceVal::Object(id) => match self.q.map().object(*id) {
                 Some(o) => {
                     let room = o
                         .room
                         .and_then(|r| self.q.map().room(r))
-                        .map_or("no room".to_string(), |r| {
-                            format!("{} {}", r.category, r.id)
-                        });
+                        .map_or("no room".to_string(), value::room_name);
                     format!("object {} `{}` in {room}", o.id, o.category)
                 }
                 None => format!("object {id}"),
             },
             PlaceVal::Room(id) => match self.q.map().room(*id) {
                 Some(r) => format!(
-                    "room {} `{}` ({:.1} m²)",
-                    r.id,
+                    "room `{}` ({}, {:.1} m²)",
+                    value::room_name(r),
                     r.category,
                     self.q.room_area(r.id)
                 ),

@@ -90,7 +90,7 @@ fn ambiguous_and_empty_selections_are_all_reported_with_candidates() {
     assert!(
         amb.notes
             .iter()
-            .any(|n| n.contains("object 8 `fridge` in kitchen 2") && n.contains(" m from"))
+            .any(|n| n.contains("object 8 `fridge` in kitchen_2") && n.contains(" m from"))
     );
     let empty = errs
         .iter()

@@ -45,18 +45,19 @@ impl PlaceVal {
         }
     }
 
-    /// `bed #12 (bedroom 3)`, `bedroom 3`, or the region's label.
+    /// `bed #12 (bedroom_2)`, `bedroom_2`, or the region's label: rooms by the map's own room
+    /// names, as `map info` and the pictures show them.
     pub fn label(&self, q: &MapQuery) -> String {
         match self {
             PlaceVal::Object(id) => match q.map().object(*id) {
                 Some(o) => match o.room.and_then(|r| q.map().room(r)) {
-                    Some(r) => format!("{} #{} ({} {})", o.category, o.id, r.category, r.id),
+                    Some(r) => format!("{} #{} ({})", o.category, o.id, room_name(r)),
                     None => format!("{} #{}", o.category, o.id),
                 },
                 None => format!("object #{id}"),
             },
             PlaceVal::Room(id) => match q.map().room(*id) {
-                Some(r) => format!("{} {}", r.category, r.id),
+                Some(r) => room_name(r),
                 None => format!("room {id}"),
             },
             PlaceVal::Region(r) => r.label.clone(),
@@ -133,5 +134,15 @@ impl Value {
             Value::Number(x) | Value::Distance(x) => Some(*x),
             _ => None,
         }
+    }
+}
+
+/// A room as users see it everywhere (`map info`, pictures, summaries): the map's name for it
+/// (`bathroom_2`), or `<category>_<id>` for a map without room names.
+pub fn room_name(r: &m2rc_stdlib::map::Room) -> String {
+    if r.name.is_empty() {
+        format!("{}_{}", r.category, r.id)
+    } else {
+        r.name.clone()
     }
 }

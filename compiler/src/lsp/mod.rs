@@ -45,6 +45,8 @@ pub enum LspError {
     Protocol(ProtocolError),
     /// The client went away while the server was still sending.
     Disconnected,
+    /// The client sent `exit` without `shutdown` first (the server then exits with status 1).
+    ExitWithoutShutdown,
 }
 
 impl std::fmt::Display for LspError {
@@ -52,6 +54,7 @@ impl std::fmt::Display for LspError {
         match self {
             LspError::Protocol(e) => write!(f, "protocol error: {e}"),
             LspError::Disconnected => f.write_str("the client disconnected"),
+            LspError::ExitWithoutShutdown => f.write_str("`exit` without `shutdown`"),
         }
     }
 }
@@ -97,6 +100,9 @@ pub fn main_loop(connection: &Connection, vocab: &Vocabulary) -> Result<(), LspE
                 }
                 let response = handle_request(req, &docs, vocab);
                 send(connection, Message::Response(response))?;
+            }
+            Message::Notification(note) if note.method == "exit" => {
+                return Err(LspError::ExitWithoutShutdown);
             }
             Message::Notification(note) => {
                 if let Some(publish) = handle_notification(note, &mut docs, vocab) {
