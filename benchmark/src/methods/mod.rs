@@ -5,8 +5,12 @@
 //! * `hard-only`: the gold program with every `prefer` removed: the value of the preferences.
 //! * `shortest`: the shortest legal route through the annotated targets (no program at all).
 //!
+//! * `grounding2route`: a language model writes the program, the compiler's diagnostics drive
+//!   a bounded repair loop (built from flags by the CLI, see [`grounding2route`]).
+//!
 //! Human demonstrations are not available for generated suites, so there is no `human` method.
 
+pub mod grounding2route;
 pub mod oracle;
 pub mod shortest;
 
@@ -31,12 +35,21 @@ pub struct Prediction {
     pub program: Option<String>,
     /// Warnings worth keeping in the prediction record.
     pub notes: Vec<String>,
+    /// The record's status when it is not `ok` (e.g. `grounding_failed`, `pending`); `pending`
+    /// makes the runner leave the episode for the next run instead of writing a record.
+    pub status: Option<String>,
+    /// Extra keys for the prediction record (a model method's attempts).
+    pub extra: serde_json::Map<String, serde_json::Value>,
 }
 
 pub trait Method: Send + Sync {
     /// The name used on the command line, in prediction records and in report rows.
     fn name(&self) -> &str;
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError>;
+    /// The method's configuration, recorded in the run manifest (methods without options: none).
+    fn config(&self) -> Option<serde_json::Value> {
+        None
+    }
 }
 
 /// A map prepared once for the many episodes run on it: the evaluator's view of it, and the
@@ -66,6 +79,9 @@ impl PreparedMap {
             .map_err(|e| MethodError(format!("the map cannot be planned on: {e}")))
     }
 }
+
+/// Methods that use a language model; the CLI builds them from the `--llm-*` flags.
+pub const MODEL_METHOD_NAMES: &[&str] = &["grounding2route"];
 
 /// Names accepted by [`method_by_name`].
 pub const METHOD_NAMES: &[&str] = &["oracle", "shortest", "hard-only"];

@@ -3,6 +3,7 @@
 
 pub mod difficulty;
 pub mod episode_png;
+pub mod model;
 pub mod plot;
 pub mod score;
 pub mod table;
@@ -16,6 +17,8 @@ use std::path::Path;
 pub struct MethodRun {
     pub method: String,
     pub records: Vec<Value>,
+    /// Episodes waiting for a model reply (marked `*.pending`, no record yet).
+    pub pending: usize,
 }
 
 /// Reads a run directory. Several directories of the same method (e.g. unmerged shards) are
@@ -23,9 +26,21 @@ pub struct MethodRun {
 pub fn load_run(dir: &Path) -> Result<MethodRun, RunError> {
     let manifest = read_run_manifest(dir)?;
     let records = read_records(dir)?;
+    // Every output the simulated model touched says so, the report's rows included.
+    let simulated = manifest
+        .method_config
+        .as_ref()
+        .and_then(|c| c.pointer("/backend/backend"))
+        .and_then(Value::as_str)
+        == Some("simulated");
     Ok(MethodRun {
-        method: manifest.method,
+        method: if simulated {
+            format!("{} [SIMULATED model]", manifest.method)
+        } else {
+            manifest.method
+        },
         records,
+        pending: count_pending(dir),
     })
 }
 
@@ -36,11 +51,40 @@ pub fn load_runs(dirs: &[impl AsRef<Path>]) -> Result<Vec<MethodRun>, RunError> 
     for d in dirs {
         let run = load_run(d.as_ref())?;
         match runs.iter_mut().find(|r| r.method == run.method) {
-            Some(existing) => existing.records.extend(run.records),
+            Some(existing) => {
+                existing.records.extend(run.records);
+                existing.pending += run.pending;
+            }
             None => runs.push(run),
         }
     }
     Ok(runs)
+}
+
+/// `*.pending` markers in the map directories of a run directory.
+pub fn count_pending(dir: &Path) -> usize {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    entries
+        .flatten()
+        .filter(|e| e.path().is_dir())
+        .filter_map(|e| std::fs::read_dir(e.path()).ok())
+        .flat_map(|d| d.flatten())
+        .filter(|f| f.file_name().to_string_lossy().ends_with(".pending"))
+        .count()
+}
+
+/// [`markdown_report`] plus, for methods that use a model, the model columns and the results
+/// after each repair round.
+pub fn markdown_report_with(runs: &[MethodRun], prices: &model::Prices) -> String {
+    let mut out = markdown_report(runs);
+    let model = model::markdown(runs, prices);
+    if !model.is_empty() {
+        out.push_str("\n");
+        out.push_str(&model);
+    }
+    out
 }
 
 /// The full Markdown report: Table I and the difficulty analysis.

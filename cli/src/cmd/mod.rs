@@ -7,4 +7,6 @@ pub mod eval;
 pub mod fmt;
 pub mod lsp;
 pub mod map;
+pub mod prompt;
+pub mod run;
 pub mod suite;
