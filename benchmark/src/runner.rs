@@ -320,7 +320,13 @@ pub fn predict_and_score(
             } else {
                 p.trajectory
             };
-            (route, p.status.unwrap_or_default(), None, p.program, p.notes)
+            (
+                route,
+                p.status.unwrap_or_default(),
+                None,
+                p.program,
+                p.notes,
+            )
         }
         Ok(mut p) if !p.trajectory.is_empty() => {
             extra = std::mem::take(&mut p.extra);

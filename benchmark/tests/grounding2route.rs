@@ -100,7 +100,11 @@ fn method(url: &str, store: Store) -> Grounding2Route {
 }
 
 fn cached(out: &Path, cache_only: bool) -> Store {
-    Store::new(Some(ResponseCache::new(out.join("llm-cache"))), None, cache_only)
+    Store::new(
+        Some(ResponseCache::new(out.join("llm-cache"))),
+        None,
+        cache_only,
+    )
 }
 
 fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
@@ -142,7 +146,11 @@ fn mock_server_cache_resume_batch_and_simulated() {
 
     // Oracle for comparison.
     let oracle_out = tmp.path().join("oracle");
-    runner::run(method_by_name("oracle").unwrap().as_ref(), &opts(&suite, &oracle_out)).unwrap();
+    runner::run(
+        method_by_name("oracle").unwrap().as_ref(),
+        &opts(&suite, &oracle_out),
+    )
+    .unwrap();
     let oracle = by_id(&oracle_out);
 
     // 1. Live against a mock server; one episode's server answers garbage.
@@ -169,7 +177,12 @@ fn mock_server_cache_resume_batch_and_simulated() {
     for (id, r) in &recs {
         let g2r = &r["grounding2route"];
         if r["status"] == "model_failed" {
-            assert!(g2r["attempts"][0]["error"].as_str().unwrap().contains("not JSON"));
+            assert!(
+                g2r["attempts"][0]["error"]
+                    .as_str()
+                    .unwrap()
+                    .contains("not JSON")
+            );
             continue;
         }
         assert_eq!(r["status"], "ok", "{id}");
@@ -224,7 +237,12 @@ fn mock_server_cache_resume_batch_and_simulated() {
     }
     std::fs::write(&replies, lines).unwrap();
     let cache = ResponseCache::new(batch_out.join("llm-cache"));
-    assert_eq!(import_batch_files(std::slice::from_ref(&replies), &cache).unwrap().imported, n);
+    assert_eq!(
+        import_batch_files(std::slice::from_ref(&replies), &cache)
+            .unwrap()
+            .imported,
+        n
+    );
     let m = method("http://127.0.0.1:9", with_batch());
     let s = runner::run(&m, &opts(&suite, &batch_out)).unwrap();
     assert_eq!((s.written, s.pending, s.method_failures), (n, 0, 0));
@@ -255,8 +273,18 @@ fn mock_server_cache_resume_batch_and_simulated() {
     sim(&s2);
     assert_eq!(snapshot(&s1), snapshot(&s2));
     let recs = by_id(&s1);
-    assert!(recs.values().all(|r| r["grounding2route"]["model"].as_str().unwrap().contains("SIMULATED")));
-    assert!(recs.values().any(|r| !r["grounding2route"]["simulated_faults"].as_array().unwrap().is_empty()));
+    assert!(recs.values().all(|r| {
+        r["grounding2route"]["model"]
+            .as_str()
+            .unwrap()
+            .contains("SIMULATED")
+    }));
+    assert!(recs.values().any(|r| {
+        !r["grounding2route"]["simulated_faults"]
+            .as_array()
+            .unwrap()
+            .is_empty()
+    }));
     let runs = load_runs(std::slice::from_ref(&s1)).unwrap();
     assert!(runs[0].method.contains("SIMULATED"));
     let md = report::markdown_report_with(&runs, &Default::default());

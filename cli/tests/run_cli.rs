@@ -7,7 +7,9 @@ const KEY: &str = "sk-cli-SECRET-9191";
 
 fn m2rc() -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_m2rc"));
-    c.env_remove("M2R_LLM_BASE_URL").env_remove("M2R_LLM_MODEL").env_remove("M2R_LLM_API_KEY");
+    c.env_remove("M2R_LLM_BASE_URL")
+        .env_remove("M2R_LLM_MODEL")
+        .env_remove("M2R_LLM_API_KEY");
     c
 }
 
@@ -40,7 +42,13 @@ fn run_lowers_repairs_and_plans_against_a_mock_server() {
         .current_dir(tmp.path())
         .env("M2R_LLM_BASE_URL", format!("{}/v1", server.url()))
         .env("M2R_LLM_API_KEY", KEY)
-        .args(["run", "Go to the bed nearest to you.", "--map", "demo", "-o"])
+        .args([
+            "run",
+            "Go to the bed nearest to you.",
+            "--map",
+            "demo",
+            "-o",
+        ])
         .arg(&route)
         .arg("--png")
         .arg(&png)
@@ -64,11 +72,26 @@ fn run_lowers_repairs_and_plans_against_a_mock_server() {
     let again = m2rc()
         .current_dir(tmp.path())
         .env("M2R_LLM_BASE_URL", "http://127.0.0.1:9/v1")
-        .args(["run", "Go to the bed nearest to you.", "--map", "demo", "--llm-cache-only", "--emit", "m2r"])
+        .args([
+            "run",
+            "Go to the bed nearest to you.",
+            "--map",
+            "demo",
+            "--llm-cache-only",
+            "--emit",
+            "m2r",
+        ])
         .output()
         .unwrap();
-    assert!(again.status.success(), "{}", String::from_utf8_lossy(&again.stderr));
-    assert_eq!(String::from_utf8_lossy(&again.stdout), "route {\n  go objects(bed).nearest(start)\n}\n");
+    assert!(
+        again.status.success(),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&again.stdout),
+        "route {\n  go objects(bed).nearest(start)\n}\n"
+    );
     // ... and nothing written holds the key, nor does anything printed.
     let mut stack = vec![tmp.path().to_path_buf()];
     while let Some(d) = stack.pop() {
@@ -77,7 +100,11 @@ fn run_lowers_repairs_and_plans_against_a_mock_server() {
                 stack.push(e.path());
             } else {
                 let b = std::fs::read(e.path()).unwrap();
-                assert!(!String::from_utf8_lossy(&b).contains(KEY), "{}", e.path().display());
+                assert!(
+                    !String::from_utf8_lossy(&b).contains(KEY),
+                    "{}",
+                    e.path().display()
+                );
             }
         }
     }
@@ -93,7 +120,14 @@ fn run_without_a_server_fails_cleanly_and_prompt_prints_the_messages() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("M2R_LLM_BASE_URL"));
     let out = m2rc()
-        .args(["prompt", "--map", "demo", "Go to the bed.", "--format", "json"])
+        .args([
+            "prompt",
+            "--map",
+            "demo",
+            "Go to the bed.",
+            "--format",
+            "json",
+        ])
         .output()
         .unwrap();
     assert!(out.status.success());
@@ -110,5 +144,8 @@ fn run_without_a_server_fails_cleanly_and_prompt_prints_the_messages() {
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success());
-    assert!(text.contains("===== assistant =====") && text.contains("## Diagnostics as JSON"), "{text}");
+    assert!(
+        text.contains("===== assistant =====") && text.contains("## Diagnostics as JSON"),
+        "{text}"
+    );
 }

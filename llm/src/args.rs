@@ -75,7 +75,11 @@ impl LlmArgs {
         if self.llm_no_cache {
             return None;
         }
-        Some(self.llm_cache.clone().unwrap_or_else(|| default.to_path_buf()))
+        Some(
+            self.llm_cache
+                .clone()
+                .unwrap_or_else(|| default.to_path_buf()),
+        )
     }
 
     /// The API key from the key file or the environment.
@@ -83,19 +87,25 @@ impl LlmArgs {
         if let Some(path) = &self.llm_api_key_file {
             let text = std::fs::read_to_string(path)
                 .map_err(|e| format!("--llm-api-key-file {}: {e}", path.display()))?;
-            return ApiKey::new(text)
-                .map(Some)
-                .ok_or_else(|| format!("--llm-api-key-file {}: the file is empty", path.display()));
+            return ApiKey::new(text).map(Some).ok_or_else(|| {
+                format!("--llm-api-key-file {}: the file is empty", path.display())
+            });
         }
         Ok(std::env::var(API_KEY_ENV).ok().and_then(ApiKey::new))
     }
 
     pub fn config(&self) -> Result<LlmConfig, String> {
         if !(self.llm_timeout.is_finite() && self.llm_timeout > 0.0) {
-            return Err(format!("--llm-timeout {} must be a positive number of seconds", self.llm_timeout));
+            return Err(format!(
+                "--llm-timeout {} must be a positive number of seconds",
+                self.llm_timeout
+            ));
         }
         if !(0.0..=2.0).contains(&self.llm_temperature) {
-            return Err(format!("--llm-temperature {} is not within 0..2", self.llm_temperature));
+            return Err(format!(
+                "--llm-temperature {} is not within 0..2",
+                self.llm_temperature
+            ));
         }
         if self.llm_concurrency == 0 {
             return Err("--llm-concurrency must be at least 1".into());
@@ -140,9 +150,16 @@ impl LlmArgs {
                 return Err("--llm-batch-in needs the response cache (drop --llm-no-cache)".into());
             };
             let r = import_batch_files(&self.llm_batch_in, c)?;
-            let mut line = format!("imported {} batch replies into {}", r.imported, c.dir().display());
+            let mut line = format!(
+                "imported {} batch replies into {}",
+                r.imported,
+                c.dir().display()
+            );
             if !r.unknown.is_empty() {
-                line.push_str(&format!("; {} unknown custom_id(s) skipped", r.unknown.len()));
+                line.push_str(&format!(
+                    "; {} unknown custom_id(s) skipped",
+                    r.unknown.len()
+                ));
             }
             for f in &r.failed {
                 line.push_str(&format!("\n  batch reply not imported: {f}"));
@@ -151,7 +168,10 @@ impl LlmArgs {
         }
         let batch = match &self.llm_batch_out {
             Some(p) if cache.is_none() => {
-                return Err(format!("--llm-batch-out {} needs the response cache (drop --llm-no-cache)", p.display()));
+                return Err(format!(
+                    "--llm-batch-out {} needs the response cache (drop --llm-no-cache)",
+                    p.display()
+                ));
             }
             Some(p) => Some(BatchOut::new(p)),
             None => None,

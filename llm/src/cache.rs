@@ -40,7 +40,9 @@ impl ResponseCache {
     }
 
     fn entry_path(&self, key: &str) -> PathBuf {
-        self.dir.join(&key[..2.min(key.len())]).join(format!("{key}.json"))
+        self.dir
+            .join(&key[..2.min(key.len())])
+            .join(format!("{key}.json"))
     }
 
     fn pending_path(&self, custom_id: &str) -> PathBuf {
@@ -65,7 +67,13 @@ impl ResponseCache {
         Some((response, latency))
     }
 
-    pub fn put(&self, key: &str, custom_id: &str, response: &Value, latency_ms: f64) -> std::io::Result<()> {
+    pub fn put(
+        &self,
+        key: &str,
+        custom_id: &str,
+        response: &Value,
+        latency_ms: f64,
+    ) -> std::io::Result<()> {
         let entry = json!({
             "key": key,
             "custom_id": custom_id,
@@ -78,7 +86,8 @@ impl ResponseCache {
 
     /// Remembers which key a batch `custom_id` stands for.
     pub fn put_pending(&self, custom_id: &str, key: &str) -> std::io::Result<()> {
-        let bytes = serde_json::to_vec(&json!({"custom_id": custom_id, "key": key})).unwrap_or_default();
+        let bytes =
+            serde_json::to_vec(&json!({"custom_id": custom_id, "key": key})).unwrap_or_default();
         write_atomic(&self.pending_path(custom_id), &bytes)
     }
 
@@ -137,7 +146,8 @@ mod tests {
         let k = cache_key(&body, "");
         assert_ne!(k, cache_key(&body, "x"));
         assert!(c.get(&k).is_none());
-        c.put(&k, "a/round0", &json!({"choices": []}), 12.0).unwrap();
+        c.put(&k, "a/round0", &json!({"choices": []}), 12.0)
+            .unwrap();
         assert_eq!(c.get(&k), Some((json!({"choices": []}), 12.0)));
         std::fs::write(c.entry_path(&k), b"{not json").unwrap();
         assert!(c.get(&k).is_none());

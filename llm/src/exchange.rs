@@ -82,7 +82,12 @@ pub struct Exchange<'a> {
 impl ChatModel for Exchange<'_> {
     fn complete(&self, request: &ChatRequest) -> Result<ChatReply, ChatError> {
         let f = self.fetch;
-        let body = request_body(f.model(), &request.messages, f.temperature(), f.max_tokens());
+        let body = request_body(
+            f.model(),
+            &request.messages,
+            f.temperature(),
+            f.max_tokens(),
+        );
         let key = cache_key(&body, &f.key_extra(request));
         let store = self.store;
         if let Some(cache) = &store.cache
@@ -134,7 +139,12 @@ impl ChatModel for Exchange<'_> {
         })?;
         if let Some(cache) = &store.cache {
             // A cache that cannot be written costs a refetch next time, not this episode.
-            let _ = cache.put(&key, &request.custom_id, &fetched.response, fetched.latency_ms);
+            let _ = cache.put(
+                &key,
+                &request.custom_id,
+                &fetched.response,
+                fetched.latency_ms,
+            );
         }
         store.count(|s| s.fetched += 1);
         Ok(reply)

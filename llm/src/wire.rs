@@ -6,7 +6,12 @@ use m2rc_compiler::lower::{ChatReply, Message, Usage};
 use serde_json::{Value, json};
 
 /// The request body for `messages` (`model`, `messages`, `temperature`, `max_tokens`).
-pub fn request_body(model: &str, messages: &[Message], temperature: f64, max_tokens: Option<u32>) -> Value {
+pub fn request_body(
+    model: &str,
+    messages: &[Message],
+    temperature: f64,
+    max_tokens: Option<u32>,
+) -> Value {
     let mut body = json!({
         "model": model,
         "messages": messages,
@@ -86,8 +91,17 @@ mod tests {
         assert_eq!(r.content.as_deref(), Some("hi"));
         assert_eq!(r.finish_reason.as_deref(), Some("length"));
         assert_eq!(r.usage.completion_tokens, 4);
-        assert_eq!(parse_completion(&json!({"choices": []}), 0.0).unwrap().choices, 0);
-        assert!(parse_completion(&json!({"id": 1}), 0.0).unwrap_err().contains("choices"));
+        assert_eq!(
+            parse_completion(&json!({"choices": []}), 0.0)
+                .unwrap()
+                .choices,
+            0
+        );
+        assert!(
+            parse_completion(&json!({"id": 1}), 0.0)
+                .unwrap_err()
+                .contains("choices")
+        );
         assert!(parse_completion(&json!([1]), 0.0).is_err());
         let e = parse_completion(&json!({"error": {"message": "bad"}}), 0.0).unwrap_err();
         assert!(e.contains("bad"));

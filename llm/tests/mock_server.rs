@@ -6,7 +6,9 @@ use m2rc_compiler::lower::{
     CatalogMode, EpisodeOutcome, Phase, Prompt, PromptOptions, RepairOptions, SceneCatalog, Trace,
     Verdict, run_episode,
 };
-use m2rc_llm::{ApiKey, BatchOut, Exchange, HttpClient, LlmConfig, ResponseCache, Store, import_batch_files};
+use m2rc_llm::{
+    ApiKey, BatchOut, Exchange, HttpClient, LlmConfig, ResponseCache, Store, import_batch_files,
+};
 use m2rc_stdlib::vocab::Vocabulary;
 use serde_json::{Value, json};
 use std::path::Path;
@@ -15,7 +17,8 @@ use std::time::Duration;
 
 const KEY: &str = "sk-test-SECRET-4242";
 const PATH: &str = "/v1/chat/completions";
-const BAD: &str = "let c = objects(chiar).nearest(start)\nroute {\n  go objects(bed)\n  avoid c\n}\n";
+const BAD: &str =
+    "let c = objects(chiar).nearest(start)\nroute {\n  go objects(bed)\n  avoid c\n}\n";
 const GOOD: &str = "let c = objects(chair).nearest(start)\nroute {\n  go objects(bed).nearest(start)\n  avoid c\n}\n";
 
 fn config(url: &str) -> LlmConfig {
@@ -122,7 +125,10 @@ fn scripted_conversation_repairs_from_the_diagnostics() {
     // The remaining error, as text and as JSON.
     let remaining = &t.attempts[0].diagnostics[0].code;
     assert!(last.contains(&format!("error[{remaining}]")), "{last}");
-    assert!(last.contains(&format!("\"code\": \"{remaining}\"")), "{last}");
+    assert!(
+        last.contains(&format!("\"code\": \"{remaining}\"")),
+        "{last}"
+    );
     // The misspelt category was fixed locally and never reached the server.
     assert_eq!(t.attempts[0].local_fixes.len(), 1);
     assert!(!last.contains("chiar"));
@@ -139,35 +145,58 @@ fn server_errors_and_malformed_bodies_are_retried() {
         (200, None, json!({"id": "no choices key"}).to_string()),
     ] {
         let mut server = mockito::Server::new();
-        let mut m = server.mock("POST", PATH).with_status(status).with_body(body);
+        let mut m = server
+            .mock("POST", PATH)
+            .with_status(status)
+            .with_body(body);
         if let Some(h) = header {
             m = m.with_header("retry-after", h);
         }
         let m1 = m.expect(1).create();
-        let m2 = server.mock("POST", PATH).with_body(code(GOOD)).expect(1).create();
+        let m2 = server
+            .mock("POST", PATH)
+            .with_body(code(GOOD))
+            .expect(1)
+            .create();
         let client = HttpClient::new(config(&server.url())).unwrap();
         let t = episode(&client, &no_cache(), "demo/e1");
         m1.assert();
         m2.assert();
-        assert_eq!(t.outcome, EpisodeOutcome::Success { round: 0 }, "status {status}");
+        assert_eq!(
+            t.outcome,
+            EpisodeOutcome::Success { round: 0 },
+            "status {status}"
+        );
     }
 }
 
 #[test]
 fn persistent_failures_are_recorded_after_bounded_attempts() {
     let mut server = mockito::Server::new();
-    let m = server.mock("POST", PATH).with_status(503).expect(3).create();
+    let m = server
+        .mock("POST", PATH)
+        .with_status(503)
+        .expect(3)
+        .create();
     let client = HttpClient::new(config(&server.url())).unwrap();
     let t = episode(&client, &no_cache(), "demo/e1");
     m.assert();
     let EpisodeOutcome::ModelFailed { message } = &t.outcome else {
         panic!("{:?}", t.outcome)
     };
-    assert!(message.contains("demo/e1/round0") && message.contains("3 attempt"), "{message}");
+    assert!(
+        message.contains("demo/e1/round0") && message.contains("3 attempt"),
+        "{message}"
+    );
     assert!(!message.contains(KEY));
     // A client error is not retried.
     let mut server = mockito::Server::new();
-    let m = server.mock("POST", PATH).with_status(401).with_body("bad key").expect(1).create();
+    let m = server
+        .mock("POST", PATH)
+        .with_status(401)
+        .with_body("bad key")
+        .expect(1)
+        .create();
     let client = HttpClient::new(config(&server.url())).unwrap();
     let t = episode(&client, &no_cache(), "demo/e1");
     m.assert();
@@ -215,10 +244,21 @@ fn connection_refused_and_timeouts_end_in_a_recorded_failure() {
 
 #[test]
 fn empty_choices_no_code_and_cut_off_replies_are_answered_by_a_repair_round() {
-    let cut = completion("```m2r\nlet c = objects(chair).nearest(start)\nroute {\n  go obj", "length");
+    let cut = completion(
+        "```m2r\nlet c = objects(chair).nearest(start)\nroute {\n  go obj",
+        "length",
+    );
     for (reply, kind, said) in [
-        (json!({"choices": []}).to_string(), "empty_choice", "was empty"),
-        (completion("The bed is in the bedroom.", "stop"), "no_code", "no ```m2r block"),
+        (
+            json!({"choices": []}).to_string(),
+            "empty_choice",
+            "was empty",
+        ),
+        (
+            completion("The bed is in the bedroom.", "stop"),
+            "no_code",
+            "no ```m2r block",
+        ),
         (cut, "cut_off", "cut off"),
     ] {
         let mut server = mockito::Server::new();
@@ -255,19 +295,32 @@ fn files(dir: &Path) -> Vec<std::path::PathBuf> {
 fn the_cache_answers_first_and_survives_corruption() {
     let tmp = tempfile::tempdir().unwrap();
     let mut server = mockito::Server::new();
-    let m = server.mock("POST", PATH).with_body(code(GOOD)).expect(2).create();
+    let m = server
+        .mock("POST", PATH)
+        .with_body(code(GOOD))
+        .expect(2)
+        .create();
     let client = HttpClient::new(config(&server.url())).unwrap();
     let store = || Store::new(Some(ResponseCache::new(tmp.path())), None, false);
-    assert_eq!(episode(&client, &store(), "demo/e1").outcome, EpisodeOutcome::Success { round: 0 });
+    assert_eq!(
+        episode(&client, &store(), "demo/e1").outcome,
+        EpisodeOutcome::Success { round: 0 }
+    );
     // A hit makes no request.
     let s = store();
-    assert_eq!(episode(&client, &s, "demo/e1").outcome, EpisodeOutcome::Success { round: 0 });
+    assert_eq!(
+        episode(&client, &s, "demo/e1").outcome,
+        EpisodeOutcome::Success { round: 0 }
+    );
     assert_eq!(s.stats().cache_hits, 1);
     // A corrupt entry is ignored and fetched again.
     for f in files(tmp.path()) {
         std::fs::write(f, b"{\"key\": 1").unwrap();
     }
-    assert_eq!(episode(&client, &store(), "demo/e1").outcome, EpisodeOutcome::Success { round: 0 });
+    assert_eq!(
+        episode(&client, &store(), "demo/e1").outcome,
+        EpisodeOutcome::Success { round: 0 }
+    );
     m.assert();
     // Cache-only never touches the network: a miss names the request.
     let empty = tempfile::tempdir().unwrap();
@@ -278,7 +331,11 @@ fn the_cache_answers_first_and_survives_corruption() {
     };
     assert!(message.contains("demo/e9/round0") && message.contains("--llm-cache-only"));
     for f in files(tmp.path()) {
-        assert!(!std::fs::read_to_string(&f).unwrap_or_default().contains(KEY));
+        assert!(
+            !std::fs::read_to_string(&f)
+                .unwrap_or_default()
+                .contains(KEY)
+        );
     }
 }
 
@@ -310,20 +367,43 @@ fn batch_round_trip_export_answer_import_continue() {
     // No server at all: every reply comes through the files.
     let client = HttpClient::new(config("http://127.0.0.1:9")).unwrap();
     let run = || {
-        let store = Store::new(Some(ResponseCache::new(&cache_dir)), Some(BatchOut::new(&batch)), false);
+        let store = Store::new(
+            Some(ResponseCache::new(&cache_dir)),
+            Some(BatchOut::new(&batch)),
+            false,
+        );
         let t = episode(&client, &store, "demo/e1");
         store.batch.as_ref().unwrap().finish().unwrap();
         t
     };
     let t = run();
-    assert_eq!(t.outcome, EpisodeOutcome::Pending { custom_id: "demo/e1/round0".into() });
+    assert_eq!(
+        t.outcome,
+        EpisodeOutcome::Pending {
+            custom_id: "demo/e1/round0".into()
+        }
+    );
     assert_eq!(answer(&batch, &replies, BAD), 1);
     let cache = ResponseCache::new(&cache_dir);
-    assert_eq!(import_batch_files(std::slice::from_ref(&replies), &cache).unwrap().imported, 1);
+    assert_eq!(
+        import_batch_files(std::slice::from_ref(&replies), &cache)
+            .unwrap()
+            .imported,
+        1
+    );
     // Round 0 now comes from the cache; round 1 is exported.
     let t = run();
-    assert_eq!(t.outcome, EpisodeOutcome::Pending { custom_id: "demo/e1/round1".into() });
-    assert!(std::fs::read_to_string(&batch).unwrap().contains("demo/e1/round1"));
+    assert_eq!(
+        t.outcome,
+        EpisodeOutcome::Pending {
+            custom_id: "demo/e1/round1".into()
+        }
+    );
+    assert!(
+        std::fs::read_to_string(&batch)
+            .unwrap()
+            .contains("demo/e1/round1")
+    );
     assert_eq!(answer(&batch, &replies, GOOD), 1);
     let imported = import_batch_files(std::slice::from_ref(&replies), &cache).unwrap();
     assert_eq!(imported.imported, 1);
@@ -334,6 +414,12 @@ fn batch_round_trip_export_answer_import_continue() {
     let again = import_batch_files(std::slice::from_ref(&replies), &cache).unwrap();
     assert_eq!((again.imported, again.unknown.len()), (0, 1));
     for f in files(tmp.path()) {
-        assert!(!std::fs::read_to_string(&f).unwrap_or_default().contains(KEY), "{}", f.display());
+        assert!(
+            !std::fs::read_to_string(&f)
+                .unwrap_or_default()
+                .contains(KEY),
+            "{}",
+            f.display()
+        );
     }
 }

@@ -200,10 +200,7 @@ impl Method for Grounding2Route {
         extra.insert("grounding2route".into(), info);
         let status = trace.outcome.status();
         Ok(Prediction {
-            trajectory: trace
-                .output
-                .map(|c| c.route.trajectory)
-                .unwrap_or_default(),
+            trajectory: trace.output.map(|c| c.route.trajectory).unwrap_or_default(),
             program: trace.final_program,
             notes: vec![],
             status: (status != "ok").then(|| status.to_string()),

@@ -33,8 +33,8 @@ impl Method for Oracle {
             trajectory,
             program: Some(program),
             notes: vec![],
-        ..Prediction::default()
-    })
+            ..Prediction::default()
+        })
     }
 }
 

@@ -71,8 +71,8 @@ impl Method for Shortest {
             trajectory: route,
             program: None,
             notes: vec![],
-        ..Prediction::default()
-    })
+            ..Prediction::default()
+        })
     }
 }
 

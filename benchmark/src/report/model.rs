@@ -50,10 +50,7 @@ fn rounds(records: &[&Value]) -> usize {
 }
 
 fn success_round(r: &Value) -> Option<usize> {
-    info(r)?
-        .get("success_round")?
-        .as_u64()
-        .map(|k| k as usize)
+    info(r)?.get("success_round")?.as_u64().map(|k| k as usize)
 }
 
 pub fn rows(runs: &[MethodRun], prices: &Prices) -> Vec<ModelRow> {
@@ -64,7 +61,12 @@ pub fn rows(runs: &[MethodRun], prices: &Prices) -> Vec<ModelRow> {
             continue;
         }
         let n = recs.len().max(1) as f64;
-        let mean = |k: &str| recs.iter().map(|r| info(r).map_or(0.0, |i| num(i, k))).sum::<f64>() / n;
+        let mean = |k: &str| {
+            recs.iter()
+                .map(|r| info(r).map_or(0.0, |i| num(i, k)))
+                .sum::<f64>()
+                / n
+        };
         let frac = |f: &dyn Fn(&Value) -> bool| recs.iter().filter(|r| f(r)).count() as f64 / n;
         let r_max = rounds(&recs);
         let (pt, ct) = (mean("prompt_tokens"), mean("completion_tokens"));
@@ -130,8 +132,14 @@ pub fn markdown(runs: &[MethodRun], prices: &Prices) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let r_max = rows.iter().map(|r| r.success_after.len()).max().unwrap_or(1);
-    let mut out = String::from("## Model methods\n\n| Method | Model | Episodes | Pending | First-try check |");
+    let r_max = rows
+        .iter()
+        .map(|r| r.success_after.len())
+        .max()
+        .unwrap_or(1);
+    let mut out = String::from(
+        "## Model methods\n\n| Method | Model | Episodes | Pending | First-try check |",
+    );
     for k in 0..r_max {
         out.push_str(&format!(" Success ≤R{k} |"));
     }

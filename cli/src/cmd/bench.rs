@@ -7,7 +7,7 @@ use clap::{Args, Subcommand, ValueEnum};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::methods::grounding2route::Grounding2Route;
 use m2rc_benchmark::methods::{
-    MODEL_METHOD_NAMES, METHOD_NAMES, Method, MethodError, Prediction, PreparedMap, method_by_name,
+    METHOD_NAMES, MODEL_METHOD_NAMES, Method, MethodError, Prediction, PreparedMap, method_by_name,
 };
 use m2rc_benchmark::report::{self, episode_png::episode_png, load_runs, table};
 use m2rc_benchmark::runner::{self, RunOptions, Shard};

@@ -53,7 +53,8 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     }
     let map = m2rc_stdlib::load::load_map(&args.map)
         .with_context(|| format!("cannot load map `{}`", args.map))?;
-    let ctx = MapContext::new(&map).map_err(|e| anyhow::anyhow!("the map cannot be planned on: {e}"))?;
+    let ctx =
+        MapContext::new(&map).map_err(|e| anyhow::anyhow!("the map cannot be planned on: {e}"))?;
     let client = args
         .llm
         .http_client()
@@ -89,12 +90,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     for a in &trace.attempts {
         eprintln!(
             "round {}: reply {} ({} prompt + {} completion tokens, {:.0} ms) -> {}",
-            a.round,
-            a.reply,
-            a.prompt_tokens,
-            a.completion_tokens,
-            a.latency_ms,
-            a.outcome
+            a.round, a.reply, a.prompt_tokens, a.completion_tokens, a.latency_ms, a.outcome
         );
         if let Some(p) = &a.program {
             for line in p.lines() {

@@ -71,7 +71,10 @@ fn parse(name: &'static str, text: &str) -> Option<Example> {
     if b <= a {
         return None;
     }
-    let instruction = joined[a + 1..b].split_whitespace().collect::<Vec<_>>().join(" ");
+    let instruction = joined[a + 1..b]
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
     let scene = joined
         .strip_prefix("Scene ")
         .and_then(|s| s.split(|c: char| !c.is_ascii_digit()).next())

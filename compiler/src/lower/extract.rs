@@ -67,14 +67,24 @@ fn looks_like_program(text: &str) -> bool {
     let t = text.trim();
     let has_route = t.contains("route {") || t.contains("route{");
     let first = t.lines().next().unwrap_or("").trim_start();
-    has_route && (first.starts_with("let ") || first.starts_with("//") || first.starts_with("route"))
+    has_route
+        && (first.starts_with("let ") || first.starts_with("//") || first.starts_with("route"))
 }
 
 fn looks_like_refusal(text: &str) -> bool {
     let t = text.trim_start().to_ascii_lowercase();
-    ["i can't", "i cannot", "i'm sorry", "i am sorry", "sorry,", "i won't", "i am unable", "i'm unable"]
-        .iter()
-        .any(|p| t.starts_with(p))
+    [
+        "i can't",
+        "i cannot",
+        "i'm sorry",
+        "i am sorry",
+        "sorry,",
+        "i won't",
+        "i am unable",
+        "i'm unable",
+    ]
+    .iter()
+    .any(|p| t.starts_with(p))
 }
 
 fn normalise(program: &str) -> String {
@@ -116,7 +126,9 @@ pub fn extract(reply: &ChatReply) -> Extracted {
             None => None,
         };
         return Extracted::CutOff {
-            partial: partial.filter(|p| !p.trim().is_empty()).map(|p| normalise(&p)),
+            partial: partial
+                .filter(|p| !p.trim().is_empty())
+                .map(|p| normalise(&p)),
         };
     }
     if let Some((_, body, _)) = chosen
@@ -161,16 +173,22 @@ mod tests {
         let tagged = format!("Here:\n```python\nx\n```\n```m2r\n{PROG}```\nDone.");
         assert_eq!(
             extract(&reply(&tagged, "stop")),
-            Extracted::Code { program: PROG.into() }
+            Extracted::Code {
+                program: PROG.into()
+            }
         );
         let plain = format!("```\n{PROG}```");
         assert_eq!(
             extract(&reply(&plain, "stop")),
-            Extracted::Code { program: PROG.into() }
+            Extracted::Code {
+                program: PROG.into()
+            }
         );
         assert_eq!(
             extract(&reply(PROG, "stop")),
-            Extracted::Code { program: PROG.into() }
+            Extracted::Code {
+                program: PROG.into()
+            }
         );
     }
 
@@ -192,13 +210,19 @@ mod tests {
             extract(&reply("The chair is in the kitchen.", "stop")).kind(),
             "no_code"
         );
-        let cut = extract(&reply("```m2r\nlet a = objects(bed).only()\nroute {\n  go", "length"));
+        let cut = extract(&reply(
+            "```m2r\nlet a = objects(bed).only()\nroute {\n  go",
+            "length",
+        ));
         assert_eq!(
             cut,
             Extracted::CutOff {
                 partial: Some("let a = objects(bed).only()\nroute {\n  go\n".into())
             }
         );
-        assert_eq!(extract(&reply("I think", "length")), Extracted::CutOff { partial: None });
+        assert_eq!(
+            extract(&reply("I think", "length")),
+            Extracted::CutOff { partial: None }
+        );
     }
 }

@@ -88,7 +88,10 @@ impl Prompt {
 
     /// Total characters of all messages.
     pub fn chars(&self) -> usize {
-        self.messages.iter().map(|m| m.content.chars().count()).sum()
+        self.messages
+            .iter()
+            .map(|m| m.content.chars().count())
+            .sum()
     }
 
     /// Estimated tokens of all messages (see [`estimate_tokens`]).
@@ -145,7 +148,10 @@ as it was checked (unambiguous fixes the compiler could apply itself are already
             ));
             out.push_str(&fence("m2r", program));
             out.push_str("\n## Diagnostics\n\n");
-            out.push_str(&fence("text", &render_text(diagnostics, "program.m2r", program)));
+            out.push_str(&fence(
+                "text",
+                &render_text(diagnostics, "program.m2r", program),
+            ));
             out.push_str("\n## Diagnostics as JSON\n\n");
             out.push_str(&fence("json", &to_json(diagnostics, program)));
         }

@@ -214,7 +214,8 @@ pub fn unambiguous_fixes(source: &str, diags: &[Diagnostic]) -> Option<(String, 
     cands.dedup_by(|a, b| a.1 == b.1);
     let overlaps = |a: &Suggestion, b: &Suggestion| {
         a.span.start < b.span.end && b.span.start < a.span.end
-            || (a.span.start == b.span.start && (a.span.start == a.span.end || b.span.start == b.span.end))
+            || (a.span.start == b.span.start
+                && (a.span.start == a.span.end || b.span.start == b.span.end))
     };
     let keep: Vec<(&Diagnostic, &Suggestion)> = cands
         .iter()

@@ -152,9 +152,15 @@ fn drop_unit(src: &str, rng: &mut dyn rand::RngCore) -> Option<String> {
     let bytes = src.as_bytes();
     let mut spans = Vec::new();
     for (i, _) in src.match_indices('m') {
-        let after_ok = bytes.get(i + 1).is_none_or(|c| !c.is_ascii_alphanumeric() && *c != b'_');
+        let after_ok = bytes
+            .get(i + 1)
+            .is_none_or(|c| !c.is_ascii_alphanumeric() && *c != b'_');
         if i > 0 && bytes[i - 1].is_ascii_digit() && after_ok {
-            let unit_start = if i >= 2 && bytes[i - 1] == b'c' { i - 1 } else { i };
+            let unit_start = if i >= 2 && bytes[i - 1] == b'c' {
+                i - 1
+            } else {
+                i
+            };
             spans.push((unit_start, i + 1));
         }
     }
@@ -226,7 +232,12 @@ pub fn apply_diagnostics(program: &str, diagnostics: &[Value]) -> String {
             .get("suggestions")
             .and_then(Value::as_array)
             .and_then(|s| s.first())
-            .and_then(|s| Some((span(s.get("span")?)?, s.get("replacement")?.as_str()?.to_string())));
+            .and_then(|s| {
+                Some((
+                    span(s.get("span")?)?,
+                    s.get("replacement")?.as_str()?.to_string(),
+                ))
+            });
         let from_help = || {
             let help = d.get("help")?.as_str()?;
             let rest = &help[help.find("write `")? + 7..];
@@ -241,7 +252,12 @@ pub fn apply_diagnostics(program: &str, diagnostics: &[Value]) -> String {
     let mut out = String::with_capacity(program.len());
     let mut pos = 0;
     for ((a, b), text) in edits {
-        if a < pos || b > program.len() || a > b || !program.is_char_boundary(a) || !program.is_char_boundary(b) {
+        if a < pos
+            || b > program.len()
+            || a > b
+            || !program.is_char_boundary(a)
+            || !program.is_char_boundary(b)
+        {
             continue;
         }
         out.push_str(&program[pos..a]);

@@ -73,7 +73,13 @@ fn local_fixes_are_applied_and_only_the_rest_reaches_the_model() {
     let good = "let c = objects(chair).nearest(start)\nroute {\n  go objects(bed).nearest(start)\n  avoid c\n}\n";
     let model = Scripted::new(vec![code(bad), code(good)]);
     let mut v = check_only;
-    let t = run_episode(&model, &mut v, &prompt(), "demo/e1", &RepairOptions::default());
+    let t = run_episode(
+        &model,
+        &mut v,
+        &prompt(),
+        "demo/e1",
+        &RepairOptions::default(),
+    );
     assert_eq!(t.outcome, EpisodeOutcome::Success { round: 1 });
     assert_eq!(t.attempts.len(), 2);
     let a0 = &t.attempts[0];
