@@ -110,6 +110,9 @@ pub struct RunManifest {
     /// Episodes of the split in the whole suite: what a complete run of the method holds.
     #[serde(default)]
     pub split_episodes: usize,
+    /// The method's configuration (model methods), so a resumed run cannot mix configurations.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub method_config: Option<Value>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -124,6 +127,9 @@ pub struct RunSummary {
     pub recomputed: Vec<String>,
     /// Temporary files of an interrupted run that were removed.
     pub temps_removed: usize,
+    /// Episodes waiting for a model reply (batch exchange); no record yet, run again after
+    /// importing the replies.
+    pub pending: usize,
 }
 
 /// The episodes of a suite a run covers, in manifest order.
@@ -180,6 +186,7 @@ pub fn run(method: &dyn Method, opts: &RunOptions) -> Result<RunSummary, RunErro
             .map(|e| format!("{}/{}", e.map_id, e.instruction_id))
             .collect(),
         split_episodes: select_episodes(&manifest, &opts.split, None).len(),
+        method_config: Some(method.config()),
     };
     // Held until the run returns: no other process writes this directory meanwhile.
     let _lock = RunLock::acquire(&opts.out)?;
@@ -217,6 +224,7 @@ pub fn run(method: &dyn Method, opts: &RunOptions) -> Result<RunSummary, RunErro
                 s.written += 1;
                 s.method_failures += method_failed as usize;
             }
+            Ok(Outcome::Pending) => s.pending += 1,
             Err(e) => {
                 let mut slot = first_error.lock().expect("error lock");
                 if slot.is_none() {
@@ -245,6 +253,12 @@ struct RunCtx<'a> {
 enum Outcome {
     Skipped,
     Written { method_failed: bool },
+    Pending,
+}
+
+/// Where an episode waiting for a model reply is marked (next to where its record will go).
+pub fn pending_path(out: &Path, map_id: &str, instruction_id: &str) -> PathBuf {
+    record_path(out, map_id, instruction_id).with_extension("pending")
 }
 
 /// A scene's prepared map, loaded by the first episode that needs it and dropped after the last
@@ -319,10 +333,23 @@ fn run_on_map(
         .map_err(|e| RunError::Invalid(e.to_string()))?;
     episode.set_source_path(Some(PathBuf::from(&entry.file)));
     let mut record = predict_and_score(method, &map, &episode, &entry.map_id);
-    record::seal(&mut record, ctx.fingerprint);
-    let method_failed = record.get("status").and_then(Value::as_str) != Some("ok");
+    let status = record
+        .get("status")
+        .and_then(Value::as_str)
+        .map(str::to_string);
+    let method_failed = status.as_deref() != Some("ok");
+    if status.as_deref() != Some("pending") {
+        record::seal(&mut record, ctx.fingerprint);
+    }
+    let status = status.as_deref();
     let bytes = serde_json::to_vec(&record).expect("record serializes");
+    let marker = pending_path(&opts.out, &entry.map_id, &entry.instruction_id);
+    if status == Some("pending") {
+        write_atomic(&marker, &bytes).map_err(|e| io_err(&marker, e))?;
+        return Ok(Outcome::Pending);
+    }
     write_atomic(&out_path, &bytes).map_err(|e| io_err(&out_path, e))?;
+    let _ = std::fs::remove_file(&marker);
     Ok(Outcome::Written { method_failed })
 }
 
@@ -348,18 +375,40 @@ pub fn predict_and_score(
     map_dir: &str,
 ) -> Value {
     let (map, eval) = (&prepared.map, &prepared.eval);
+    let mut extra = serde_json::Map::new();
     let (trajectory, status, error, program, notes) = match method.predict(prepared, episode) {
-        Ok(p) if !p.trajectory.is_empty() => (p.trajectory, "ok", None, p.program, p.notes),
-        Ok(p) => (
-            fallback_route(map, episode),
-            "empty_route",
-            None,
-            p.program,
-            p.notes,
-        ),
+        Ok(mut p) if p.status.is_some() => {
+            extra = std::mem::take(&mut p.extra);
+            let route = if p.trajectory.is_empty() {
+                fallback_route(map, episode)
+            } else {
+                p.trajectory
+            };
+            (
+                route,
+                p.status.unwrap_or_default(),
+                None,
+                p.program,
+                p.notes,
+            )
+        }
+        Ok(mut p) if !p.trajectory.is_empty() => {
+            extra = std::mem::take(&mut p.extra);
+            (p.trajectory, "ok".to_string(), None, p.program, p.notes)
+        }
+        Ok(mut p) => {
+            extra = std::mem::take(&mut p.extra);
+            (
+                fallback_route(map, episode),
+                "empty_route".to_string(),
+                None,
+                p.program,
+                p.notes,
+            )
+        }
         Err(e) => (
             fallback_route(map, episode),
-            "method_error",
+            "method_error".to_string(),
             Some(e.0),
             None,
             vec![],
@@ -377,7 +426,7 @@ pub fn predict_and_score(
             .cloned()
             .unwrap_or(Value::Null)
     };
-    json!({
+    let mut record = json!({
         "method": method.name(),
         "map_id": episode.map_id,
         "map_dir": map_dir,
@@ -396,7 +445,13 @@ pub fn predict_and_score(
         "metrics_summary": scored.summary,
         "soft_episode_values": scored.soft_values,
         "trajectory": traj,
-    })
+    });
+    if let Value::Object(m) = &mut record {
+        for (k, v) in extra {
+            m.entry(k).or_insert(v);
+        }
+    }
+    record
 }
 
 fn fallback_route(map: &SemanticMap, episode: &Episode) -> Vec<Cell> {
@@ -423,13 +478,14 @@ fn check_or_write_run_manifest(out: &Path, m: &RunManifest) -> Result<(), RunErr
             )));
         }
         if old.method != m.method
+            || old.method_config != m.method_config
             || old.suite_name != m.suite_name
             || old.shard != m.shard
             || old.split != m.split
             || old.expected != m.expected
         {
             return Err(RunError::Invalid(format!(
-                "{} already holds a run of method `{}` on suite `{}` (split {}, shard {:?}); use another --out",
+                "{} already holds a run of method `{}` on suite `{}` (split {}, shard {:?}), or one with another method configuration; use another --out",
                 out.display(),
                 old.method,
                 old.suite_name,

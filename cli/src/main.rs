@@ -43,6 +43,10 @@ enum Command {
     Bench(cmd::bench::BenchCommand),
     /// Run the .m2r language server over stdio.
     Lsp(cmd::lsp::LspArgs),
+    /// Natural language in, route out: an LLM writes the program, the compiler repairs it.
+    Run(cmd::run::RunArgs),
+    /// Print the exact messages the LLM sees for an instruction (or a repair).
+    Prompt(cmd::prompt::PromptArgs),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +61,8 @@ fn main() -> ExitCode {
         Command::Suite(c) => cmd::suite::run(c),
         Command::Bench(c) => cmd::bench::run(c),
         Command::Lsp(a) => cmd::lsp::run(a),
+        Command::Run(a) => cmd::run::run(a),
+        Command::Prompt(a) => cmd::prompt::run(a),
     };
     match result {
         Ok(code) => code,

@@ -8,6 +8,7 @@ pub mod ir;
 pub mod resolve;
 mod scopecheck;
 mod slot;
+pub mod lower;
 pub mod suggest;
 mod typecheck;
 pub use check::{CheckResult, check};

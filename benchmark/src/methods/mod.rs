@@ -5,8 +5,12 @@
 //! * `hard-only`: the gold program with every `prefer` removed: the value of the preferences.
 //! * `shortest`: the shortest legal route through the annotated targets (no program at all).
 //!
+//! * `grounding2route`: a language model writes the program, the compiler's diagnostics drive
+//!   a bounded repair loop (built from flags by the CLI, see [`grounding2route`]).
+//!
 //! Human demonstrations are not available for generated suites, so there is no `human` method.
 
+pub mod grounding2route;
 pub mod oracle;
 pub mod shortest;
 
@@ -31,6 +35,11 @@ pub struct Prediction {
     pub program: Option<String>,
     /// Warnings worth keeping in the prediction record.
     pub notes: Vec<String>,
+    /// The record's status when it is not `ok` (e.g. `grounding_failed`, `pending`); `pending`
+    /// makes the runner leave the episode for the next run instead of writing a record.
+    pub status: Option<String>,
+    /// Extra keys for the prediction record (a model method's attempts).
+    pub extra: serde_json::Map<String, serde_json::Value>,
 }
 
 pub trait Method: Send + Sync {
@@ -72,6 +81,9 @@ impl PreparedMap {
             .map_err(|e| MethodError(format!("the map cannot be planned on: {e}")))
     }
 }
+
+/// Methods that use a language model; the CLI builds them from the `--llm-*` flags.
+pub const MODEL_METHOD_NAMES: &[&str] = &["grounding2route"];
 
 /// Names accepted by [`method_by_name`].
 pub const METHOD_NAMES: &[&str] = &["oracle", "shortest", "hard-only"];

@@ -42,6 +42,7 @@ impl Method for Oracle {
             trajectory,
             program: Some(program),
             notes: vec![],
+            ..Prediction::default()
         })
     }
 }

@@ -62,6 +62,7 @@ impl Method for Shortest {
                             "target {} is unreachable without touching an active must-avoid",
                             k + 1
                         )],
+                        ..Prediction::default()
                     });
                 }
             }
@@ -70,6 +71,7 @@ impl Method for Shortest {
             trajectory: route,
             program: None,
             notes: vec![],
+            ..Prediction::default()
         })
     }
 }

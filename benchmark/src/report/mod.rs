@@ -3,6 +3,7 @@
 
 pub mod difficulty;
 pub mod episode_png;
+pub mod model;
 pub mod plot;
 pub mod score;
 pub mod table;
@@ -21,6 +22,8 @@ pub struct MethodRun {
     pub present: usize,
     /// Episodes a complete run of the method holds (the suite's split).
     pub expected: usize,
+    /// Episodes waiting for a model reply (marked `*.pending`, no record yet).
+    pub pending: usize,
 }
 
 impl MethodRun {
@@ -41,6 +44,24 @@ pub fn load_runs(dirs: &[impl AsRef<Path>]) -> Result<Vec<MethodRun>, RunError> 
     load_runs_with(dirs, LoadOptions::default())
 }
 
+/// The name a method's rows carry: every output the simulated model touched says so.
+fn display_name(method: &str, dirs: &[std::path::PathBuf]) -> String {
+    let simulated = dirs.iter().any(|d| {
+        crate::runner::read_run_manifest(d).is_ok_and(|m| {
+            m.method_config
+                .as_ref()
+                .and_then(|c| c.pointer("/backend/backend"))
+                .and_then(Value::as_str)
+                == Some("simulated")
+        })
+    });
+    if simulated {
+        format!("{method} [SIMULATED model]")
+    } else {
+        method.to_string()
+    }
+}
+
 /// Reads run directories, keeping the order methods first appear in and combining directories
 /// of the same method (each episode once, a directory named twice once). Every record is
 /// validated; an incomplete method is refused unless `opts.allow_incomplete`.
@@ -52,12 +73,18 @@ pub fn load_runs_with(
     let mut runs = Vec::new();
     let mut incomplete = Vec::new();
     for m in methods {
+        let pending: usize = m.dirs.iter().map(|d| count_pending(d)).sum();
         if !m.is_complete() {
             incomplete.push(format!(
-                "`{}` has {} of {} episodes ({})",
+                "`{}` has {} of {} episodes{} ({})",
                 m.method,
                 m.present(),
                 m.expected,
+                if pending > 0 {
+                    format!(", {pending} waiting for a model reply")
+                } else {
+                    String::new()
+                },
                 m.dirs
                     .iter()
                     .map(|d| d.display().to_string())
@@ -66,9 +93,10 @@ pub fn load_runs_with(
             ));
         }
         runs.push(MethodRun {
-            method: m.method.clone(),
+            method: display_name(&m.method, &m.dirs),
             present: m.present(),
             expected: m.expected,
+            pending,
             records: m.records.into_values().collect(),
         });
     }
@@ -79,6 +107,32 @@ pub fn load_runs_with(
         )));
     }
     Ok(runs)
+}
+
+/// `*.pending` markers in the map directories of a run directory.
+pub fn count_pending(dir: &Path) -> usize {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    entries
+        .flatten()
+        .filter(|e| e.path().is_dir())
+        .filter_map(|e| std::fs::read_dir(e.path()).ok())
+        .flat_map(|d| d.flatten())
+        .filter(|f| f.file_name().to_string_lossy().ends_with(".pending"))
+        .count()
+}
+
+/// [`markdown_report`] plus, for methods that use a model, the model columns and the results
+/// after each repair round.
+pub fn markdown_report_with(runs: &[MethodRun], prices: &model::Prices) -> String {
+    let mut out = markdown_report(runs);
+    let model = model::markdown(runs, prices);
+    if !model.is_empty() {
+        out.push_str("\n");
+        out.push_str(&model);
+    }
+    out
 }
 
 /// The full Markdown report: Table I and the difficulty analysis.

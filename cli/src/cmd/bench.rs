@@ -5,7 +5,10 @@ use crate::io::{unusable, write_atomic};
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand, ValueEnum};
 use m2rc_benchmark::episode::Episode;
-use m2rc_benchmark::methods::{METHOD_NAMES, method_by_name};
+use m2rc_benchmark::methods::grounding2route::Grounding2Route;
+use m2rc_benchmark::methods::{
+    METHOD_NAMES, MODEL_METHOD_NAMES, Method, MethodError, Prediction, PreparedMap, method_by_name,
+};
 use m2rc_benchmark::report::{self, LoadOptions, episode_png::episode_png, load_runs_with, table};
 use m2rc_benchmark::runner::{self, RunOptions, Shard};
 use m2rc_benchmark::suite::SuiteManifest;
@@ -44,6 +47,19 @@ pub struct RunArgs {
     /// Worker threads (default: all cores; more than the machine's cores is capped to them).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Print the report of this run directory (Markdown) when the run is done.
+    #[arg(long)]
+    pub report: bool,
+    /// Model price per million prompt tokens, for the cost column of --report.
+    #[arg(long)]
+    pub llm_price_in: Option<f64>,
+    /// Model price per million completion tokens, for the cost column of --report.
+    #[arg(long)]
+    pub llm_price_out: Option<f64>,
+    #[command(flatten)]
+    pub llm: m2rc_llm::LlmArgs,
+    #[command(flatten)]
+    pub lower: m2rc_llm::LowerArgs,
 }
 
 #[derive(Args)]
@@ -89,6 +105,12 @@ pub struct ReportArgs {
     /// Directory for the --episode pictures.
     #[arg(long, default_value = ".")]
     pub png_dir: PathBuf,
+    /// Model price per million prompt tokens (adds a cost column for model methods).
+    #[arg(long)]
+    pub llm_price_in: Option<f64>,
+    /// Model price per million completion tokens.
+    #[arg(long)]
+    pub llm_price_out: Option<f64>,
 }
 
 pub fn run(command: BenchCommand) -> Result<ExitCode> {
@@ -107,12 +129,31 @@ fn show_progress() -> bool {
 }
 
 fn run_method(a: RunArgs) -> Result<ExitCode> {
-    let Some(method) = method_by_name(&a.method) else {
-        return Err(unusable(anyhow::anyhow!(
-            "--method: unknown method `{}` (known: {})",
-            a.method,
-            METHOD_NAMES.join(", ")
-        )));
+    let mut model_method = None;
+    let method: Box<dyn m2rc_benchmark::methods::Method> = if a.method == "grounding2route" {
+        let (m, note) = Grounding2Route::from_args(&a.llm, &a.lower, &a.out.join("llm-cache"))
+            .map_err(|e| unusable(anyhow::Error::msg(e)))?;
+        if let Some(n) = note {
+            eprintln!("{n}");
+        }
+        if m.config.is_simulated() {
+            eprintln!("note: {}", m.config.label());
+        }
+        let m = std::sync::Arc::new(m);
+        model_method = Some(m.clone());
+        Box::new(SharedMethod(m))
+    } else {
+        match method_by_name(&a.method) {
+            Some(m) => m,
+            None => {
+                return Err(unusable(anyhow::anyhow!(
+                    "--method: unknown method `{}` (known: {}, {})",
+                    a.method,
+                    METHOD_NAMES.join(", "),
+                    MODEL_METHOD_NAMES.join(", ")
+                )));
+            }
+        }
     };
     let opts = RunOptions {
         suite: a.suite,
@@ -137,6 +178,28 @@ fn run_method(a: RunArgs) -> Result<ExitCode> {
     for r in &summary.recomputed {
         eprintln!("warning: recomputed {r}");
     }
+    if let Some(m) = &model_method {
+        if let Some(b) = &m.store.batch {
+            let n = b.finish()?;
+            eprintln!(
+                "wrote {n} batch request(s) to {}; answer them, then run again with --llm-batch-in <output file>",
+                b.path().display()
+            );
+        }
+        let s = m.store.stats();
+        eprintln!(
+            "model requests: {} answered from the cache, {} fetched, {} pending, {} failed{}",
+            s.cache_hits,
+            s.fetched,
+            s.pending,
+            s.failed,
+            if m.config.is_simulated() {
+                " (SIMULATED model)"
+            } else {
+                ""
+            }
+        );
+    }
     crate::io::stdout(&format!(
         "{}: {} episodes ({} written, {} already done, {} recomputed), {} without a route from the method; records in {}\n",
         method.name(),
@@ -147,6 +210,26 @@ fn run_method(a: RunArgs) -> Result<ExitCode> {
         summary.method_failures,
         a.out.display()
     ))?;
+    if summary.pending > 0 {
+        crate::io::stdout(&format!(
+            "{}: {} episode(s) pending a model reply (no record yet; import the batch replies and run again)\n",
+            method.name(),
+            summary.pending
+        ))?;
+    }
+    if a.report {
+        let runs = load_runs_with(
+            std::slice::from_ref(&a.out),
+            LoadOptions {
+                allow_incomplete: summary.pending > 0,
+            },
+        )?;
+        let prices = report::model::Prices {
+            input: a.llm_price_in,
+            output: a.llm_price_out,
+        };
+        crate::io::stdout(&report::markdown_report_with(&runs, &prices))?;
+    }
     Ok(ExitCode::SUCCESS)
 }
 
@@ -192,7 +275,13 @@ fn report_cmd(a: ReportArgs) -> Result<ExitCode> {
         },
     )?;
     let text = match a.format {
-        ReportFormat::Md => report::markdown_report(&runs),
+        ReportFormat::Md => report::markdown_report_with(
+            &runs,
+            &report::model::Prices {
+                input: a.llm_price_in,
+                output: a.llm_price_out,
+            },
+        ),
         ReportFormat::Csv => table::csv(&table::table(&runs)),
         ReportFormat::Json => table::json(&table::table(&runs)) + "\n",
     };
@@ -261,4 +350,21 @@ fn report_cmd(a: ReportArgs) -> Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A method shared with the command (which reads its store's statistics after the run).
+struct SharedMethod(std::sync::Arc<Grounding2Route>);
+
+impl Method for SharedMethod {
+    fn name(&self) -> &str {
+        self.0.name()
+    }
+
+    fn config(&self) -> Option<Value> {
+        self.0.config()
+    }
+
+    fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
+        self.0.predict(map, episode)
+    }
 }

@@ -8,4 +8,6 @@ pub mod fmt;
 pub mod lsp;
 pub mod map;
 pub mod map_check;
+pub mod prompt;
+pub mod run;
 pub mod suite;

@@ -1,0 +1,161 @@
+//! `m2rc run`: natural language in, route out. The instruction is lowered into `.m2r` by the
+//! configured model (prompt generated from the built-in table, the map's catalog and worked
+//! examples), checked, repaired from the compiler's diagnostics (local fixes first), grounded and
+//! planned. Prints each round's reply, local fixes and diagnostics, the final program and the
+//! route summary; writes outputs only when a route was found, each atomically.
+
+use crate::cmd::compile::{render_options, route_document, summary_text};
+use crate::io::write_atomic;
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+use m2rc_benchmark::methods::grounding2route::lower_and_plan;
+use m2rc_benchmark::pipeline::PipelineOptions;
+use m2rc_compiler::lower::EpisodeOutcome;
+use m2rc_llm::{Backend, Exchange};
+use m2rc_planner::context::MapContext;
+use m2rc_stdlib::render::render_map;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Args)]
+pub struct RunArgs {
+    /// The route instruction, in natural language.
+    pub instruction: String,
+    /// Map file (Map2Route JSON, ProcTHOR house JSON) or `demo`.
+    #[arg(long)]
+    pub map: String,
+    /// Where to write the route (or the program with `--emit m2r`, the RouteIR with `--emit ir`).
+    #[arg(short = 'o', long)]
+    pub output: Option<PathBuf>,
+    #[arg(long, value_enum, default_value_t = RunEmit::Route)]
+    pub emit: RunEmit,
+    /// Draw the route over the map into this PNG.
+    #[arg(long)]
+    pub png: Option<PathBuf>,
+    #[command(flatten)]
+    pub llm: m2rc_llm::LlmArgs,
+    #[command(flatten)]
+    pub lower: m2rc_llm::LowerArgs,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RunEmit {
+    Route,
+    M2r,
+    Ir,
+}
+
+pub fn run(args: RunArgs) -> Result<ExitCode> {
+    if let Backend::Simulated(_) = args.llm.backend {
+        bail!(
+            "--llm simulated answers from an episode's gold program, so it works only in `m2rc bench run`; point `m2rc run` at a server with --llm-base-url"
+        );
+    }
+    let map = m2rc_stdlib::load::load_map(&args.map)
+        .with_context(|| format!("cannot load map `{}`", args.map))?;
+    let ctx =
+        MapContext::new(&map).map_err(|e| anyhow::anyhow!("the map cannot be planned on: {e}"))?;
+    let client = args
+        .llm
+        .http_client()
+        .map_err(anyhow::Error::msg)?
+        .context("no HTTP client")?;
+    let (store, note) = args
+        .llm
+        .store(Path::new(".m2rc/llm-cache"))
+        .map_err(anyhow::Error::msg)?;
+    if let Some(n) = note {
+        eprintln!("{n}");
+    }
+    let model = Exchange {
+        store: &store,
+        fetch: &client,
+    };
+    let key = format!("{}/run", map.map_id);
+    let (prompt, trace) = lower_and_plan(
+        &model,
+        &map,
+        &ctx,
+        &args.instruction,
+        &key,
+        &args.lower.prompt_options(),
+        &args.lower.repair_options(),
+        &PipelineOptions::default(),
+    );
+    eprintln!(
+        "prompt: about {} tokens; model {}",
+        prompt.estimated_tokens(),
+        client.config().model
+    );
+    for a in &trace.attempts {
+        eprintln!(
+            "round {}: reply {} ({} prompt + {} completion tokens, {:.0} ms) -> {}",
+            a.round, a.reply, a.prompt_tokens, a.completion_tokens, a.latency_ms, a.outcome
+        );
+        if let Some(p) = &a.program {
+            for line in p.lines() {
+                eprintln!("    | {line}");
+            }
+        }
+        for f in &a.local_fixes {
+            eprintln!(
+                "    local fix [{}]: `{}` -> `{}` ({})",
+                f.code, f.replaced, f.replacement, f.message
+            );
+        }
+        for d in &a.diagnostics {
+            eprintln!("    {}[{}]: {}", d.severity, d.code, d.message);
+        }
+        if let Some(e) = &a.error {
+            eprintln!("    error: {e}");
+        }
+    }
+    if let Some(b) = &store.batch {
+        let n = b.finish()?;
+        eprintln!("wrote {n} batch request(s) to {}", b.path().display());
+    }
+    let compiled = match (&trace.outcome, trace.output) {
+        (EpisodeOutcome::Success { round }, Some(c)) => {
+            eprintln!("accepted in round {round}");
+            c
+        }
+        (outcome, _) => {
+            eprintln!(
+                "no route: {} after {} round(s)",
+                outcome.status(),
+                trace.attempts.len()
+            );
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    let program = trace.final_program.unwrap_or_default();
+    let ir_json = compiled.ir.to_json();
+    let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;
+    let png = match &args.png {
+        Some(_) => Some(
+            render_map(&map, &render_options(&compiled))
+                .context("cannot render the route")?
+                .png,
+        ),
+        None => None,
+    };
+    match (&args.output, args.emit) {
+        (Some(out), RunEmit::Route) => write_atomic(out, route_json.as_bytes())?,
+        (Some(out), RunEmit::M2r) => write_atomic(out, program.as_bytes())?,
+        (Some(out), RunEmit::Ir) => write_atomic(out, ir_json.as_bytes())?,
+        (None, _) => {}
+    }
+    if let (Some(path), Some(png)) = (&args.png, png) {
+        write_atomic(path, &png)?;
+    }
+    match (args.emit, &args.output) {
+        (RunEmit::M2r, None) => print!("{program}"),
+        (RunEmit::Ir, None) => println!("{ir_json}"),
+        _ => {
+            println!("// program");
+            print!("{program}");
+            print!("{}", summary_text(&compiled));
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
