@@ -40,6 +40,10 @@ enum Command {
     Bench(cmd::bench::BenchCommand),
     /// Run the .m2r language server over stdio.
     Lsp(cmd::lsp::LspArgs),
+    /// Run the paper's ablations over a suite, each into one table (docs/ablations.md).
+    Ablate(cmd::ablate::AblateArgs),
+    /// Turn an LTLf formula into its minimal automaton (JSON, HOA, DOT).
+    Ltl(cmd::ltl::LtlArgs),
 }
 
 fn main() -> ExitCode {
@@ -53,6 +57,8 @@ fn main() -> ExitCode {
         Command::Suite(c) => cmd::suite::run(c),
         Command::Bench(c) => cmd::bench::run(c),
         Command::Lsp(a) => cmd::lsp::run(a),
+        Command::Ablate(a) => cmd::ablate::run(a),
+        Command::Ltl(a) => cmd::ltl::run(a),
     };
     match result {
         Ok(code) => code,

@@ -13,3 +13,4 @@ mod typecheck;
 pub use check::{CheckResult, check};
 pub mod lsp;
 pub mod verify;
+pub mod ltl;

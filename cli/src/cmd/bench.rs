@@ -93,7 +93,7 @@ pub fn run(command: BenchCommand) -> Result<ExitCode> {
     }
 }
 
-fn show_progress() -> bool {
+pub(crate) fn show_progress() -> bool {
     let ci = std::env::var("CI")
         .map(|v| !v.is_empty() && v != "0" && v != "false")
         .unwrap_or(false);
@@ -134,7 +134,7 @@ fn run_method(a: RunArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn rayon_pool(threads: usize) -> Result<rayon::ThreadPool> {
+pub(crate) fn rayon_pool(threads: usize) -> Result<rayon::ThreadPool> {
     if threads == 0 {
         bail!("--threads must be at least 1");
     }

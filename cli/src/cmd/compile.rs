@@ -29,7 +29,9 @@ pub struct CompileArgs {
     /// Where to write the route (or the RouteIR with `--emit ir`).
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
-    /// What `-o` receives (`ir` without `-o` prints the RouteIR to stdout).
+    /// What `-o` receives (`ir` without `-o` prints the RouteIR to stdout). `ltl`, `dfa`, `hoa`
+    /// and `dot` are the route's hard constraints as an LTLf formula and its minimal automaton
+    /// (JSON, HOA, Graphviz); without `-o` they go to stdout.
     #[arg(long, value_enum, default_value_t = Emit::Route)]
     pub emit: Emit,
     /// Draw the route over the map into this PNG.
@@ -49,6 +51,10 @@ pub struct CompileArgs {
 pub enum Emit {
     Route,
     Ir,
+    Ltl,
+    Dfa,
+    Hoa,
+    Dot,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -56,6 +62,9 @@ pub enum Planner {
     Sequential,
     Global,
     Shortest,
+    /// The LTL backend: the route's hard constraints as an LTLf automaton, planned on the product
+    /// of the grid and the automaton (soft preferences dropped).
+    Ltl,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -124,6 +133,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             Planner::Sequential => PlannerKind::Sequential,
             Planner::Global => PlannerKind::Global,
             Planner::Shortest => PlannerKind::Shortest,
+            Planner::Ltl => PlannerKind::Ltl,
         },
         start: args.start,
         ..PipelineOptions::default()
@@ -138,6 +148,14 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     // Build every output before writing any.
     let ir_json = compiled.ir.to_json();
     let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;
+    let ltl_text = match ltl_emit(args.emit) {
+        Some(kind) => Some(
+            m2rc_compiler::ltl::emit(&compiled.ltl_route(), kind, &compiled.ir.map_id)
+                .map_err(anyhow::Error::msg)
+                .context("cannot build the route's automaton")?,
+        ),
+        None => None,
+    };
     let png = match &args.png {
         Some(_) => Some(
             render_map(&map, &render_options(&compiled))
@@ -149,6 +167,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     match (&args.output, args.emit) {
         (Some(out), Emit::Route) => write_atomic(out, route_json.as_bytes())?,
         (Some(out), Emit::Ir) => write_atomic(out, ir_json.as_bytes())?,
+        (Some(out), _) => write_atomic(out, ltl_text.as_deref().unwrap_or("").as_bytes())?,
         (None, _) => {}
     }
     if let (Some(path), Some(png)) = (&args.png, png) {
@@ -165,12 +184,26 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             }
             if args.emit == Emit::Ir && args.output.is_none() {
                 println!("{ir_json}");
+            } else if let (Some(text), None) = (&ltl_text, &args.output) {
+                print!("{text}");
             } else {
                 print!("{}", summary_text(&compiled));
             }
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The LTL backend's output for `--emit`, if it is one of its kinds.
+fn ltl_emit(e: Emit) -> Option<m2rc_compiler::ltl::EmitKind> {
+    use m2rc_compiler::ltl::EmitKind;
+    match e {
+        Emit::Route | Emit::Ir => None,
+        Emit::Ltl => Some(EmitKind::Ltl),
+        Emit::Dfa => Some(EmitKind::Dfa),
+        Emit::Hoa => Some(EmitKind::Hoa),
+        Emit::Dot => Some(EmitKind::Dot),
+    }
 }
 
 fn print_diagnostics(diags: &[Diagnostic], file_name: &str, source: &str, format: Format) {

@@ -1,10 +1,12 @@
 //! One module per subcommand.
 
+pub mod ablate;
 pub mod bench;
 pub mod check;
 pub mod compile;
 pub mod eval;
 pub mod fmt;
 pub mod lsp;
+pub mod ltl;
 pub mod map;
 pub mod suite;
