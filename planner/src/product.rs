@@ -272,3 +272,73 @@ fn rebuild(
         states,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use m2rc_compiler::ltl::parse;
+
+    fn mask(n: usize, cells: &[(usize, usize)]) -> Vec<bool> {
+        let mut m = vec![false; n * n];
+        for &(r, c) in cells {
+            m[r * n + c] = true;
+        }
+        m
+    }
+
+    fn plan(formula: &str, atoms: &[Vec<bool>], trav: &[bool], n: usize) -> Result<ProductRoute, ProductFailure> {
+        let names: Vec<String> = ["a", "b", "c"][..atoms.len()].iter().map(|s| s.to_string()).collect();
+        let dfa = Dfa::build(&parse(formula).unwrap(), &names, true).unwrap();
+        search(&ProductProblem {
+            n,
+            traversable: trav,
+            atoms,
+            dfa: &dfa,
+            start: Cell::new(0, 0),
+            max_expansions: 0,
+        })
+    }
+
+    #[test]
+    fn ordered_visits_and_avoid_on_a_small_grid() {
+        let n = 5;
+        let trav = vec![true; n * n];
+        let a = mask(n, &[(4, 0)]);
+        let b = mask(n, &[(0, 4)]);
+        let c = mask(n, &[(2, 1), (2, 2), (2, 3), (1, 2), (3, 2)]);
+        let r = plan("F(a & F b) & G !c", &[a.clone(), b.clone(), c.clone()], &trav, n).unwrap();
+        assert_eq!(r.trajectory.first(), Some(&Cell::new(0, 0)));
+        assert_eq!(r.trajectory.last(), Some(&Cell::new(0, 4)));
+        assert!(r.trajectory.contains(&Cell::new(4, 0)));
+        assert!(r.trajectory.iter().all(|x| !c[x.row as usize * n + x.col as usize]));
+        // Without the avoid: down 4, then 4 diagonal steps; the plus in the middle forces a detour.
+        let straight = plan("F(a & F b)", &[a.clone(), b.clone()], &trav, n).unwrap();
+        assert!((straight.cost - (4.0 + 4.0 * SQRT2)).abs() < 1e-9, "{}", straight.cost);
+        assert!(r.cost > straight.cost);
+        // The start inside an avoided place is rejected; an unreachable goal has no route.
+        let c0 = mask(n, &[(0, 0)]);
+        assert_eq!(
+            plan("F a & G !c", &[a.clone(), b.clone(), c0], &trav, n),
+            Err(ProductFailure::StartRejected)
+        );
+        let wall = mask(n, &[(3, 0), (3, 1), (3, 2), (3, 3), (3, 4)]);
+        assert!(matches!(
+            plan("F a & G !c", &[a, b, wall], &trav, n),
+            Err(ProductFailure::NoAcceptingRoute { .. })
+        ));
+    }
+
+    #[test]
+    fn corners_are_not_cut() {
+        let n = 3;
+        // A blocked cell at (0, 1) and (1, 0): the diagonal from (0, 0) to (1, 1) is illegal.
+        let mut trav = vec![true; n * n];
+        trav[1] = false;
+        trav[n] = false;
+        let a = mask(n, &[(1, 1)]);
+        assert!(matches!(
+            plan("F a", &[a], &trav, n),
+            Err(ProductFailure::NoAcceptingRoute { .. })
+        ));
+    }
+}

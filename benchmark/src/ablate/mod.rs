@@ -78,7 +78,7 @@ impl Ablation {
         let scoped = |name: &str, t: fn(&mut m2rc_compiler::ir::RouteIr), profile| -> Box<dyn Method> {
             let mut v = GoldVariant::new(name, PlannerKind::Sequential, profile);
             v.transform = Some(t);
-            Box::new(v)
+            Box::new(v) as Box<dyn Method>
         };
         Ok(match self {
             Ablation::LtlVsRouteir => vec![
@@ -87,7 +87,7 @@ impl Ablation {
                 {
                     let mut v = GoldVariant::new("gold+ltl", PlannerKind::Ltl, CostProfile::reference());
                     v.note = Some("LTL planner: soft preferences and path shapes dropped");
-                    Box::new(v)
+                    Box::new(v) as Box<dyn Method>
                 },
             ],
             Ablation::RepairRounds => return Err(repair_rounds_missing()),

@@ -29,6 +29,9 @@ pub struct LtlArgs {
     /// Keep the automaton as progression builds it (for comparing with the minimised one).
     #[arg(long)]
     pub no_minimise: bool,
+    /// Build the automaton this many times and print the mean construction time to stderr.
+    #[arg(long)]
+    pub bench: Option<u32>,
 }
 
 pub fn run(a: LtlArgs) -> Result<ExitCode> {
@@ -56,6 +59,20 @@ pub fn run(a: LtlArgs) -> Result<ExitCode> {
     }
     let dfa = Dfa::build(&checked.formula, &atoms, !a.no_minimise)
         .map_err(|e| anyhow::anyhow!(e.to_string()))?;
+    if let Some(k) = a.bench.filter(|k| *k > 0) {
+        let t = std::time::Instant::now();
+        for _ in 0..k {
+            let d = Dfa::build(&checked.formula, &atoms, !a.no_minimise)
+                .map_err(|e| anyhow::anyhow!(e.to_string()))?;
+            std::hint::black_box(d);
+        }
+        eprintln!(
+            "{} atoms, {} states: {:.3} ms per construction (mean of {k})",
+            atoms.len(),
+            dfa.states(),
+            t.elapsed().as_secs_f64() * 1e3 / k as f64
+        );
+    }
     emit(&a, &checked.formula, dfa)
 }
 

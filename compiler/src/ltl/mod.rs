@@ -50,3 +50,6 @@ pub fn emit(route: &LtlRoute, kind: EmitKind, name: &str) -> Result<String, Stri
         EmitKind::Dot => export::to_dot(&dfa, name),
     })
 }
+
+#[cfg(test)]
+mod tests;

@@ -423,7 +423,11 @@ impl Parser {
                 }
             }
             Tok::RParen => Err(self.error(
-                SyntaxErrorKind::Unbalanced,
+                if self.open.is_empty() {
+                    SyntaxErrorKind::Unbalanced
+                } else {
+                    SyntaxErrorKind::Syntax
+                },
                 if self.open.is_empty() {
                     "unbalanced parentheses: this `)` closes nothing".into()
                 } else {
