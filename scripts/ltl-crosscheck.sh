@@ -66,7 +66,7 @@ def guard_fn(text, atoms):
     expr = text.replace("~", " not ").replace("!", " not ").replace("&", " and ").replace("|", " or ")
     expr = re.sub(r"\btrue\b", "True", expr)
     expr = re.sub(r"\bfalse\b", "False", expr)
-    code = compile(expr, "<guard>", "eval")
+    code = compile(expr.strip(), "<guard>", "eval")
     return lambda letter: bool(eval(code, {}, dict(letter)))
 
 def mine(formula, atoms):
