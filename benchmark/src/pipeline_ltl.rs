@@ -60,17 +60,17 @@ pub(crate) fn compile_ltl(
             route: None,
         },
     );
-    let diags: Vec<Diagnostic> = g.problems.into_iter().map(|p| p.into_diagnostic()).collect();
+    let diags: Vec<Diagnostic> = g
+        .problems
+        .into_iter()
+        .map(|p| p.into_diagnostic())
+        .collect();
     let Some(ir) = g.ir.filter(|_| !diags.iter().any(Diagnostic::is_error)) else {
         return Err(fail(diags, &warnings));
     };
     warnings.extend(diags);
-    let problem = lower_with(&ir, map, ctx, CostProfile::shortest()).map_err(|m| {
-        fail(
-            vec![Diagnostic::new(Code::MalformedIr, span, m)],
-            &warnings,
-        )
-    })?;
+    let problem = lower_with(&ir, map, ctx, CostProfile::shortest())
+        .map_err(|m| fail(vec![Diagnostic::new(Code::MalformedIr, span, m)], &warnings))?;
     let n = map.n();
     let trav = problem.traversable.data();
     let radius = goal::goal_radius_cells(problem.profile.goal_radius_m, problem.resolution);
@@ -79,7 +79,11 @@ pub(crate) fn compile_ltl(
     for (k, name) in d.atoms.iter().enumerate() {
         let (Some(stage), Some(seg)) = (ir.stages.get(k), problem.segments.get(k)) else {
             return Err(fail(
-                vec![Diagnostic::new(Code::MalformedIr, span, "an atom was not grounded")],
+                vec![Diagnostic::new(
+                    Code::MalformedIr,
+                    span,
+                    "an atom was not grounded",
+                )],
                 &warnings,
             ));
         };
@@ -102,7 +106,9 @@ pub(crate) fn compile_ltl(
             }
             let mut cells = vec![false; n * n];
             for cell in place.cells.cells() {
-                if c.spatial_scope.as_ref().is_none_or(|s| s.cells.contains(*cell))
+                if c.spatial_scope
+                    .as_ref()
+                    .is_none_or(|s| s.cells.contains(*cell))
                     && (cell.row as usize) < n
                     && (cell.col as usize) < n
                 {
@@ -126,7 +132,10 @@ pub(crate) fn compile_ltl(
             &warnings,
         )
     })?;
-    let budget = opts.profile.max_expansions.saturating_mul(names.len().max(1) as u64);
+    let budget = opts
+        .profile
+        .max_expansions
+        .saturating_mul(names.len().max(1) as u64);
     let route = match plan_places(&problem.traversable, &masks, &dfa, problem.start, budget) {
         Ok(r) => r,
         Err(e) => {

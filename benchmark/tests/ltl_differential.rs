@@ -41,8 +41,14 @@ fn ltl_planner_matches_the_global_planner_on_destinations_and_avoids() {
         hard_fraction: 0.5,
         seed: 11,
     };
-    let manifest: SuiteManifest =
-        build_suite(&shared().join("fixtures"), &config, &tools, dir.path(), &|_, _| {}).unwrap();
+    let manifest: SuiteManifest = build_suite(
+        &shared().join("fixtures"),
+        &config,
+        &tools,
+        dir.path(),
+        &|_, _| {},
+    )
+    .unwrap();
     let mut compared = 0;
     let mut with_avoids = 0;
     for scene in &manifest.scenes {
@@ -50,7 +56,11 @@ fn ltl_planner_matches_the_global_planner_on_destinations_and_avoids() {
         let bytes = std::fs::read(&path).unwrap();
         let map = m2rc_stdlib::map::read_map_json(&bytes, "map").unwrap();
         let prepared = PreparedMap::new(map);
-        for entry in manifest.episodes.iter().filter(|e| e.map_id == scene.map_id) {
+        for entry in manifest
+            .episodes
+            .iter()
+            .filter(|e| e.map_id == scene.map_id)
+        {
             let episode = Episode::read(&dir.path().join(&entry.file)).unwrap();
             let Some(gold) = episode.m2rc_gold_program.as_deref() else {
                 continue;
@@ -64,7 +74,8 @@ fn ltl_planner_matches_the_global_planner_on_destinations_and_avoids() {
                 ..PipelineOptions::default()
             };
             let ctx = prepared.planning().unwrap();
-            let Ok(global) = compile_and_plan_with(&program, &prepared.map, ctx, &opts(PlannerKind::Global))
+            let Ok(global) =
+                compile_and_plan_with(&program, &prepared.map, ctx, &opts(PlannerKind::Global))
             else {
                 continue;
             };
@@ -81,7 +92,8 @@ fn ltl_planner_matches_the_global_planner_on_destinations_and_avoids() {
                 .unwrap_or_else(|d| panic!("{}: LTL planner failed: {d:?}", entry.file));
             let res = prepared.map.resolution();
             assert!(
-                (ltl.route.length_m - global.route.length_m).abs() <= res * std::f64::consts::SQRT_2 + 1e-9,
+                (ltl.route.length_m - global.route.length_m).abs()
+                    <= res * std::f64::consts::SQRT_2 + 1e-9,
                 "{}: LTL {} m, global {} m",
                 entry.file,
                 ltl.route.length_m,

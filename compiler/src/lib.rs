@@ -12,5 +12,5 @@ pub mod suggest;
 mod typecheck;
 pub use check::{CheckResult, check};
 pub mod lsp;
-pub mod verify;
 pub mod ltl;
+pub mod verify;

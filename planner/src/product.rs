@@ -286,8 +286,16 @@ mod tests {
         m
     }
 
-    fn plan(formula: &str, atoms: &[Vec<bool>], trav: &[bool], n: usize) -> Result<ProductRoute, ProductFailure> {
-        let names: Vec<String> = ["a", "b", "c"][..atoms.len()].iter().map(|s| s.to_string()).collect();
+    fn plan(
+        formula: &str,
+        atoms: &[Vec<bool>],
+        trav: &[bool],
+        n: usize,
+    ) -> Result<ProductRoute, ProductFailure> {
+        let names: Vec<String> = ["a", "b", "c"][..atoms.len()]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
         let dfa = Dfa::build(&parse(formula).unwrap(), &names, true).unwrap();
         search(&ProductProblem {
             n,
@@ -306,14 +314,28 @@ mod tests {
         let a = mask(n, &[(4, 0)]);
         let b = mask(n, &[(0, 4)]);
         let c = mask(n, &[(2, 1), (2, 2), (2, 3), (1, 2), (3, 2)]);
-        let r = plan("F(a & F b) & G !c", &[a.clone(), b.clone(), c.clone()], &trav, n).unwrap();
+        let r = plan(
+            "F(a & F b) & G !c",
+            &[a.clone(), b.clone(), c.clone()],
+            &trav,
+            n,
+        )
+        .unwrap();
         assert_eq!(r.trajectory.first(), Some(&Cell::new(0, 0)));
         assert_eq!(r.trajectory.last(), Some(&Cell::new(0, 4)));
         assert!(r.trajectory.contains(&Cell::new(4, 0)));
-        assert!(r.trajectory.iter().all(|x| !c[x.row as usize * n + x.col as usize]));
+        assert!(
+            r.trajectory
+                .iter()
+                .all(|x| !c[x.row as usize * n + x.col as usize])
+        );
         // Without the avoid: down 4, then 4 diagonal steps; the plus in the middle forces a detour.
         let straight = plan("F(a & F b)", &[a.clone(), b.clone()], &trav, n).unwrap();
-        assert!((straight.cost - (4.0 + 4.0 * SQRT2)).abs() < 1e-9, "{}", straight.cost);
+        assert!(
+            (straight.cost - (4.0 + 4.0 * SQRT2)).abs() < 1e-9,
+            "{}",
+            straight.cost
+        );
         assert!(r.cost > straight.cost);
         // The start inside an avoided place is rejected; an unreachable goal has no route.
         let c0 = mask(n, &[(0, 0)]);

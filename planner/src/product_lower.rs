@@ -131,7 +131,10 @@ pub fn plan_ltl(p: &PlanProblem) -> PlannedRoute {
         }
     };
     let n = p.traversable.n();
-    let budget = p.profile.max_expansions.saturating_mul(p.segments.len().max(1) as u64);
+    let budget = p
+        .profile
+        .max_expansions
+        .saturating_mul(p.segments.len().max(1) as u64);
     let result = search(&ProductProblem {
         n,
         traversable: p.traversable.data(),

@@ -54,9 +54,7 @@ impl Ablation {
                  global planner on the hard constraints only) and through the LTL backend (RouteIR -> LTLf -> \
                  minimal DFA -> product-graph A*; soft preferences dropped)"
             }
-            Ablation::RepairRounds => {
-                "the LLM method with R = 0, 1, 2, 3 repair rounds"
-            }
+            Ablation::RepairRounds => "the LLM method with R = 0, 1, 2, 3 repair rounds",
             Ablation::Scopes => {
                 "scopes removed from the frozen RouteIR of the gold program (method notes §4.9): Global-T \
                  (every stage scope), Global-S (every spatial scope, default room scopes included), Global-TS \
@@ -75,17 +73,27 @@ impl Ablation {
         let gold = |name: &str, planner, profile| -> Box<dyn Method> {
             Box::new(GoldVariant::new(name, planner, profile))
         };
-        let scoped = |name: &str, t: fn(&mut m2rc_compiler::ir::RouteIr), profile| -> Box<dyn Method> {
-            let mut v = GoldVariant::new(name, PlannerKind::Sequential, profile);
-            v.transform = Some(t);
-            Box::new(v) as Box<dyn Method>
-        };
+        let scoped =
+            |name: &str, t: fn(&mut m2rc_compiler::ir::RouteIr), profile| -> Box<dyn Method> {
+                let mut v = GoldVariant::new(name, PlannerKind::Sequential, profile);
+                v.transform = Some(t);
+                Box::new(v) as Box<dyn Method>
+            };
         Ok(match self {
             Ablation::LtlVsRouteir => vec![
-                gold("gold+routeir", PlannerKind::Sequential, CostProfile::reference()),
-                gold("gold+routeir-global-hard", PlannerKind::Global, CostProfile::shortest()),
+                gold(
+                    "gold+routeir",
+                    PlannerKind::Sequential,
+                    CostProfile::reference(),
+                ),
+                gold(
+                    "gold+routeir-global-hard",
+                    PlannerKind::Global,
+                    CostProfile::shortest(),
+                ),
                 {
-                    let mut v = GoldVariant::new("gold+ltl", PlannerKind::Ltl, CostProfile::reference());
+                    let mut v =
+                        GoldVariant::new("gold+ltl", PlannerKind::Ltl, CostProfile::reference());
                     v.note = Some("LTL planner: soft preferences and path shapes dropped");
                     Box::new(v) as Box<dyn Method>
                 },
@@ -93,14 +101,26 @@ impl Ablation {
             Ablation::RepairRounds => return Err(repair_rounds_missing()),
             Ablation::Scopes => vec![
                 gold("full", PlannerKind::Sequential, CostProfile::reference()),
-                scoped("global-t", variants::no_stage_scope, CostProfile::reference()),
-                scoped("global-s", variants::no_spatial_scope, CostProfile::reference()),
+                scoped(
+                    "global-t",
+                    variants::no_stage_scope,
+                    CostProfile::reference(),
+                ),
+                scoped(
+                    "global-s",
+                    variants::no_spatial_scope,
+                    CostProfile::reference(),
+                ),
                 scoped("global-ts", variants::no_scope, CostProfile::reference()),
                 scoped("hard-only", variants::no_soft, CostProfile::hard_only()),
             ],
             Ablation::OraclePlanner => vec![
                 gold("shortest", PlannerKind::Shortest, CostProfile::shortest()),
-                gold("sequential", PlannerKind::Sequential, CostProfile::reference()),
+                gold(
+                    "sequential",
+                    PlannerKind::Sequential,
+                    CostProfile::reference(),
+                ),
                 gold("global", PlannerKind::Global, CostProfile::reference()),
             ],
         })
@@ -193,7 +213,10 @@ pub fn run_all(opts: &AblateOptions) -> Result<Vec<AblationResult>, RunError> {
     for ab in Ablation::ALL {
         match ab.variants() {
             Err(why) => {
-                report.push_str(&format!("## Ablation `{}`\n\nNot run: {why}.\n\n", ab.name()));
+                report.push_str(&format!(
+                    "## Ablation `{}`\n\nNot run: {why}.\n\n",
+                    ab.name()
+                ));
             }
             Ok(_) => {
                 let r = run_ablation(ab, opts)?;

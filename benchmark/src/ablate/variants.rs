@@ -141,15 +141,26 @@ mod tests {
     fn scope_ablations_change_only_their_scope() {
         let mut a = ir();
         no_stage_scope(&mut a);
-        assert!(a.constraints.iter().all(|c| c.stage_scope == StageScope::Global));
+        assert!(
+            a.constraints
+                .iter()
+                .all(|c| c.stage_scope == StageScope::Global)
+        );
         assert!(a.constraints.iter().all(|c| c.spatial_scope.is_some()));
         let mut b = ir();
         no_spatial_scope(&mut b);
         assert!(b.constraints.iter().all(|c| c.spatial_scope.is_none()));
-        assert!(b.constraints.iter().all(|c| c.stage_scope != StageScope::Global));
+        assert!(
+            b.constraints
+                .iter()
+                .all(|c| c.stage_scope != StageScope::Global)
+        );
         let mut c = ir();
         no_soft(&mut c);
         assert_eq!(c.constraints.len(), 1);
-        assert!(matches!(c.constraints[0].kind, ConstraintKind::Avoid { .. }));
+        assert!(matches!(
+            c.constraints[0].kind,
+            ConstraintKind::Avoid { .. }
+        ));
     }
 }

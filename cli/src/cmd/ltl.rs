@@ -40,7 +40,8 @@ pub fn run(a: LtlArgs) -> Result<ExitCode> {
         // An unsatisfiable formula still has an automaton (it accepts nothing); print it.
         Err(d) if d.iter().all(|x| x.code.id() == "E0807") => {
             eprint!("{}", render_text(&d, "<formula>", &a.formula));
-            let f = m2rc_compiler::ltl::parse(&a.formula).map_err(|e| anyhow::anyhow!(e.message))?;
+            let f =
+                m2rc_compiler::ltl::parse(&a.formula).map_err(|e| anyhow::anyhow!(e.message))?;
             let atoms: Vec<String> = f.atoms().into_iter().map(String::from).collect();
             let dfa = Dfa::build(&f, &atoms, true).map_err(|e| anyhow::anyhow!(e.to_string()))?;
             return emit(&a, &f, dfa);

@@ -152,7 +152,13 @@ pub fn check_formula(
                     .help("split the route into fewer places, or drop nested `X` operators"),
             ]);
         }
-        Err(e) => return Err(vec![Diagnostic::new(Code::LtlUnknownAtom, whole, e.to_string())]),
+        Err(e) => {
+            return Err(vec![Diagnostic::new(
+                Code::LtlUnknownAtom,
+                whole,
+                e.to_string(),
+            )]);
+        }
     };
     if !dfa.is_satisfiable() {
         return Err(vec![
@@ -187,7 +193,9 @@ mod tests {
 
     fn err(text: &str) -> Diagnostic {
         let names: Vec<String> = ["bed", "kitchen", "bath", "k"].map(String::from).to_vec();
-        check_formula(text, 10, &lookup, &names).unwrap_err().remove(0)
+        check_formula(text, 10, &lookup, &names)
+            .unwrap_err()
+            .remove(0)
     }
 
     #[test]
@@ -203,7 +211,10 @@ mod tests {
         let d = err("F(bed & F kitchen");
         assert_eq!((d.code, d.span), (Code::LtlUnbalanced, Span::new(11, 12)));
         let d = err("F bed & G !bed");
-        assert_eq!((d.code, d.span), (Code::LtlUnsatisfiable, Span::new(10, 24)));
+        assert_eq!(
+            (d.code, d.span),
+            (Code::LtlUnsatisfiable, Span::new(10, 24))
+        );
         let d = err("G F bed");
         assert_eq!(d.code, Code::LtlInfiniteIdiom);
         assert_eq!(d.suggestions[0].replacement, "F(bed)");

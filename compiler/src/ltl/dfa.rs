@@ -138,7 +138,9 @@ pub enum BuildError {
 impl std::fmt::Display for BuildError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            BuildError::TooManyAtoms(n) => write!(f, "{n} atoms: at most {MAX_ATOMS} are supported"),
+            BuildError::TooManyAtoms(n) => {
+                write!(f, "{n} atoms: at most {MAX_ATOMS} are supported")
+            }
             BuildError::TooManyStates(n) => {
                 write!(f, "the automaton passed {n} states; simplify the formula")
             }
@@ -378,19 +380,18 @@ impl Dfa {
             let mut reps: Vec<usize> = Vec::new();
             let mut next = vec![0usize; n];
             for q in 0..n {
-                let found = reps.iter().position(|&r| {
-                    block[r] == block[q]
-                        && self.edges[q].iter().all(|e1| {
-                            self.edges[r].iter().all(|e2| {
-                                block[e1.to] == block[e2.to]
-                                    || !e1
-                                        .guard
-                                        .0
-                                        .iter()
-                                        .any(|c1| e2.guard.0.iter().any(|c2| c1.intersects(*c2)))
+                let found =
+                    reps.iter().position(|&r| {
+                        block[r] == block[q]
+                            && self.edges[q].iter().all(|e1| {
+                                self.edges[r].iter().all(|e2| {
+                                    block[e1.to] == block[e2.to]
+                                        || !e1.guard.0.iter().any(|c1| {
+                                            e2.guard.0.iter().any(|c2| c1.intersects(*c2))
+                                        })
+                                })
                             })
-                        })
-                });
+                    });
                 next[q] = match found {
                     Some(k) => k,
                     None => {

@@ -49,12 +49,12 @@ fn hoa_guard(g: &Guard, atoms: usize) -> String {
     match g.0.len() {
         0 => "f".into(),
         1 => hoa_cube(&g.0[0], atoms),
-        _ => g
-            .0
-            .iter()
-            .map(|c| format!("({})", hoa_cube(c, atoms)))
-            .collect::<Vec<_>>()
-            .join(" | "),
+        _ => {
+            g.0.iter()
+                .map(|c| format!("({})", hoa_cube(c, atoms)))
+                .collect::<Vec<_>>()
+                .join(" | ")
+        }
     }
 }
 

@@ -269,7 +269,9 @@ pub fn lower(ir: &RouteIr) -> LtlRoute {
             }
             other => dropped.push(format!("{} {} (soft: not part of the formula)", c.id, {
                 match other {
-                    ConstraintKind::Near { reference } => format!("prefer near {}", reference.label),
+                    ConstraintKind::Near { reference } => {
+                        format!("prefer near {}", reference.label)
+                    }
                     ConstraintKind::Far { reference } => {
                         format!("prefer far from {}", reference.label)
                     }

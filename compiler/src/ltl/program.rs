@@ -58,22 +58,20 @@ pub fn desugar(program: &Program, src: &str) -> Option<Desugared> {
             let mut items = Vec::new();
             for it in std::mem::take(&mut r.items) {
                 match it {
-                    RouteItem::Ltl(_) => {
-                        items.extend(atoms.iter().map(|(name, span)| {
-                            RouteItem::Stage(Stage {
-                                target: Expr {
-                                    kind: ExprKind::Name(Ident {
-                                        name: name.clone(),
-                                        span: *span,
-                                    }),
+                    RouteItem::Ltl(_) => items.extend(atoms.iter().map(|(name, span)| {
+                        RouteItem::Stage(Stage {
+                            target: Expr {
+                                kind: ExprKind::Name(Ident {
+                                    name: name.clone(),
                                     span: *span,
-                                },
-                                name: None,
-                                body: Vec::new(),
+                                }),
                                 span: *span,
-                            })
-                        }))
-                    }
+                            },
+                            name: None,
+                            body: Vec::new(),
+                            span: *span,
+                        })
+                    })),
                     RouteItem::Constraint(c) if c.kind == ConstraintKind::Prefer => {
                         dropped.push(
                             src.get(c.span.start..c.span.end)
@@ -99,8 +97,10 @@ pub fn desugar(program: &Program, src: &str) -> Option<Desugared> {
 /// `formula & G !a1 & G !a2 ...` for the block's avoids.
 pub fn with_avoids(formula: &Formula, avoids: &[String]) -> Formula {
     let mut parts = vec![formula.clone()];
-    parts.extend(avoids.iter().map(|a| {
-        Formula::new(Kind::Always(Box::new(Formula::not(Formula::atom(a)))))
-    }));
+    parts.extend(
+        avoids
+            .iter()
+            .map(|a| Formula::new(Kind::Always(Box::new(Formula::not(Formula::atom(a)))))),
+    );
     Formula::and_all(parts)
 }

@@ -8,9 +8,7 @@ use super::syntax::{Kind, parse};
 use crate::check::Checker;
 use crate::diagnostic::{Code, Diagnostic};
 use crate::slot::Slot;
-use m2rc_grammar::ast::{
-    ConstraintKind, Expr, ExprKind, Ident, LtlForm, RouteItem, Span,
-};
+use m2rc_grammar::ast::{ConstraintKind, Expr, ExprKind, Ident, LtlForm, RouteItem, Span};
 use m2rc_stdlib::builtins::{Ty, Type};
 
 const PLACE: &[Ty] = &[Ty::PLACE];
@@ -18,7 +16,10 @@ const PLACE: &[Ty] = &[Ty::PLACE];
 /// The formula's text as written and the offset of its first byte in the source. Falls back to
 /// the string's value (spans then approximate) when the literal holds escapes.
 pub fn formula_text<'s>(src: &'s str, f: &'s LtlForm) -> (&'s str, usize) {
-    let inner = Span::new(f.formula_span.start + 1, f.formula_span.end.saturating_sub(1));
+    let inner = Span::new(
+        f.formula_span.start + 1,
+        f.formula_span.end.saturating_sub(1),
+    );
     match src.get(inner.start..inner.end) {
         Some(raw) if raw == f.formula => (raw, inner.start),
         _ => (f.formula.as_str(), inner.start),
@@ -32,7 +33,10 @@ impl Checker<'_> {
                 Diagnostic::new(
                     Code::LtlSyntax,
                     f.keyword.span,
-                    format!("expected `{{` or `ltl` after `route`, found `{}`", f.keyword.name),
+                    format!(
+                        "expected `{{` or `ltl` after `route`, found `{}`",
+                        f.keyword.name
+                    ),
                 )
                 .help("an LTL route is written `route ltl \"F(a & F b)\"`")
                 .suggest(f.keyword.span, "ltl"),
@@ -91,7 +95,10 @@ impl Checker<'_> {
         let mut occurrences: Vec<(String, Span)> = Vec::new();
         parsed.walk(&mut |g| {
             if let Kind::Atom(a) = &g.kind {
-                occurrences.push((a.clone(), Span::new(g.span.start + offset, g.span.end + offset)));
+                occurrences.push((
+                    a.clone(),
+                    Span::new(g.span.start + offset, g.span.end + offset),
+                ));
             }
         });
         for (name, span) in occurrences {

@@ -19,7 +19,8 @@ fn found(src: &str) -> Vec<(&'static str, String)> {
         .collect()
 }
 
-const LETS: &str = "let k = 2\nlet bed = objects(bed).only()\nlet kitchen = rooms(kitchen).only()\n";
+const LETS: &str =
+    "let k = 2\nlet bed = objects(bed).only()\nlet kitchen = rooms(kitchen).only()\n";
 
 fn prog(route: &str) -> String {
     format!("{LETS}{route}\n")
@@ -62,7 +63,11 @@ fn preferences_in_an_ltl_route_are_dropped_with_a_warning() {
         got.contains(&("E0809", "prefer near(kitchen)".to_string())),
         "{got:?}"
     );
-    assert!(!got.iter().any(|(c, _)| c.starts_with("E08") && *c != "E0809"), "{got:?}");
+    assert!(
+        !got.iter()
+            .any(|(c, _)| c.starts_with("E08") && *c != "E0809"),
+        "{got:?}"
+    );
 }
 
 #[test]
@@ -71,7 +76,10 @@ fn ltl_route_prints_and_parses_back() {
     let parsed = m2rc_grammar::parse(&src);
     assert!(parsed.errors.is_empty(), "{:?}", parsed.errors);
     let printed = m2rc_grammar::print(&parsed.program);
-    assert!(printed.contains("route ltl \"F(kitchen & F bed)\" {"), "{printed}");
+    assert!(
+        printed.contains("route ltl \"F(kitchen & F bed)\" {"),
+        "{printed}"
+    );
     let again = m2rc_grammar::parse(&printed);
     assert!(again.errors.is_empty());
     assert_eq!(m2rc_grammar::print(&again.program), printed);
