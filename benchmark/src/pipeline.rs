@@ -30,6 +30,9 @@ pub struct PipelineOptions {
     pub start: Option<Cell>,
     /// Most plans made while re-binding route-dependent places.
     pub max_rounds: usize,
+    /// Applied to the verified RouteIR before it is planned (the ablations' scope removal,
+    /// `ablate::scopes`); `None` plans it as grounded.
+    pub transform: Option<fn(&mut RouteIr)>,
 }
 
 impl Default for PipelineOptions {
@@ -39,6 +42,7 @@ impl Default for PipelineOptions {
             profile: CostProfile::default(),
             start: None,
             max_rounds: 4,
+            transform: None,
         }
     }
 }
@@ -54,6 +58,8 @@ pub struct CompiledRoute {
     pub rounds: usize,
     /// Whether grounding against the final route reproduced the IR the route was planned from.
     pub stable: bool,
+    /// The formula of a `route ltl "..."` program (its RouteIR then holds one stage per atom).
+    pub ltl: Option<m2rc_compiler::ltl::LtlRoute>,
 }
 
 /// Compiles `source` on `map` into a planned route, or every diagnostic that prevents it.
@@ -97,6 +103,22 @@ fn compile(
     if checked.has_errors() {
         return Err(checked.diagnostics);
     }
+    if let Some(d) = m2rc_compiler::ltl::program::desugar(&checked.program, source) {
+        let owned;
+        let ctx = match shared {
+            Some(c) => c,
+            None => {
+                owned = MapContext::new(map).map_err(|m| {
+                    with_warnings(
+                        vec![Diagnostic::new(Code::MalformedIr, Span::default(), m)],
+                        &warnings,
+                    )
+                })?;
+                &owned
+            }
+        };
+        return crate::pipeline_ltl::compile_ltl(&checked, d, source, map, ctx, opts, warnings);
+    }
     let q = MapQuery::new(map);
     let mut route: Option<Vec<Cell>> = None;
     let mut last: Option<(RouteIr, PlannedRoute)> = None;
@@ -117,7 +139,7 @@ fn compile(
             .into_iter()
             .map(|p| p.into_diagnostic())
             .collect();
-        let ir = match g.ir {
+        let mut ir = match g.ir {
             Some(ir) if !diags.iter().any(Diagnostic::is_error) => ir,
             _ => return Err(with_warnings(diags, &warnings)),
         };
@@ -126,6 +148,9 @@ fn compile(
             return Err(with_warnings(diags, &warnings));
         }
         merge(&mut warnings, diags);
+        if let Some(t) = opts.transform {
+            t(&mut ir);
+        }
         if let Some((prev_ir, prev_route)) = last.take() {
             if same_grounding(&prev_ir, &ir) {
                 return Ok(CompiledRoute {
@@ -134,6 +159,7 @@ fn compile(
                     warnings,
                     rounds,
                     stable: true,
+                    ltl: None,
                 });
             }
             if rounds >= opts.max_rounds.max(1) {
@@ -143,6 +169,7 @@ fn compile(
                     warnings,
                     rounds,
                     stable: false,
+                    ltl: None,
                 });
             }
         }
@@ -172,6 +199,7 @@ fn compile(
                 warnings,
                 rounds,
                 stable: true,
+                ltl: None,
             });
         }
         route = Some(planned.trajectory.clone());
@@ -232,4 +260,14 @@ pub fn stage_ends(route: &PlannedRoute) -> Vec<usize> {
         out.push(at);
     }
     out
+}
+
+impl CompiledRoute {
+    /// The route's hard constraints as LTLf (`m2rc compile --emit ltl|dfa|hoa|dot`).
+    pub fn ltl_route(&self) -> m2rc_compiler::ltl::LtlRoute {
+        match &self.ltl {
+            Some(l) => l.clone(),
+            None => m2rc_compiler::ltl::lower(&self.ir),
+        }
+    }
 }

@@ -47,6 +47,10 @@ enum Command {
     Run(cmd::run::RunArgs),
     /// Print the exact messages the LLM sees for an instruction (or a repair).
     Prompt(cmd::prompt::PromptArgs),
+    /// Run the paper's ablations over a suite, each into one table (docs/ablations.md).
+    Ablate(cmd::ablate::AblateArgs),
+    /// Turn an LTLf formula into its minimal automaton (JSON, HOA, DOT).
+    Ltl(cmd::ltl::LtlArgs),
 }
 
 fn main() -> ExitCode {
@@ -63,6 +67,8 @@ fn main() -> ExitCode {
         Command::Lsp(a) => cmd::lsp::run(a),
         Command::Run(a) => cmd::run::run(a),
         Command::Prompt(a) => cmd::prompt::run(a),
+        Command::Ablate(a) => cmd::ablate::run(a),
+        Command::Ltl(a) => cmd::ltl::run(a),
     };
     match result {
         Ok(code) => code,

@@ -13,4 +13,5 @@ pub mod suggest;
 mod typecheck;
 pub use check::{CheckResult, check};
 pub mod lsp;
+pub mod ltl;
 pub mod verify;

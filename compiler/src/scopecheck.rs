@@ -95,7 +95,8 @@ impl Checker<'_> {
                 );
             }
         }
-        if self.stages.len() == base && !self.had_parse_errors {
+        let ltl = r.items.iter().any(|i| matches!(i, RouteItem::Ltl(_)));
+        if self.stages.len() == base && !self.had_parse_errors && !ltl {
             self.report(
                 Diagnostic::new(
                     Code::EmptyRoute,
@@ -144,6 +145,7 @@ impl Checker<'_> {
                 }
                 RouteItem::For(f) => self.for_stages(f, base),
                 RouteItem::Error(_) => {}
+                RouteItem::Ltl(f) => self.ltl_form(f, items),
             }
         }
     }

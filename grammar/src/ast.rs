@@ -71,6 +71,21 @@ pub enum RouteItem {
     Let(Let),
     For(ForStages),
     Error(Span),
+    /// The formula of a `route ltl "..."` block (always its first item; the parser puts it there).
+    Ltl(LtlForm),
+}
+
+/// `route ltl "<LTLf formula>" [{ avoid ... prefer ... }]`: the route is the cheapest one whose
+/// trace satisfies the formula; atoms are place bindings (`compiler::ltl`, `docs/ltl.md`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LtlForm {
+    /// The word after `route` (the checker insists on `ltl`).
+    pub keyword: Ident,
+    /// The string's value: the formula text.
+    pub formula: String,
+    /// The string literal, quotes included.
+    pub formula_span: Span,
+    pub span: Span,
 }
 
 /// `go target [as name] [{ constraints and lets active while heading to target }]`

@@ -64,6 +64,12 @@ fn route_item(i: &RouteItem) -> RouteItem {
             span: Span::default(),
         }),
         RouteItem::Error(_) => RouteItem::Error(Span::default()),
+        RouteItem::Ltl(f) => RouteItem::Ltl(LtlForm {
+            keyword: id(&f.keyword),
+            formula: f.formula.clone(),
+            formula_span: Span::default(),
+            span: Span::default(),
+        }),
     }
 }
 

@@ -389,6 +389,20 @@ impl<'a> Printer<'a> {
 
     fn route(&mut self, r: &Route) {
         self.begin(r.span);
+        if let Some(RouteItem::Ltl(f)) = r.items.first() {
+            let head = format!("route {} {}", f.keyword.name, format_str(&f.formula));
+            if r.items.len() == 1 && !self.has_comment_before(r.span.end) {
+                self.line(&head);
+            } else {
+                self.line(&format!("{head} {{"));
+                self.open_block();
+                self.route_items(&r.items[1..]);
+                self.close_block(r.span.end);
+                self.line("}");
+            }
+            self.end(r.span);
+            return;
+        }
         if r.items.is_empty() && !self.has_comment_before(r.span.end) {
             self.line("route {}");
         } else {
@@ -415,6 +429,8 @@ impl<'a> Printer<'a> {
                 RouteItem::Let(l) => self.let_stmt(l),
                 RouteItem::For(f) => self.for_stages(f),
                 RouteItem::Error(span) => self.error(*span),
+                // Printed by `route` as the block's head.
+                RouteItem::Ltl(_) => {}
             }
         }
     }

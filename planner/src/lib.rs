@@ -17,6 +17,8 @@ pub mod goal;
 pub mod layout;
 pub mod lower;
 pub mod problem;
+pub mod product;
+pub mod product_lower;
 pub mod route;
 pub mod sequential;
 pub mod shortest;
@@ -41,6 +43,9 @@ pub enum PlannerKind {
     Global,
     /// Hard constraints only.
     Shortest,
+    /// The RouteIR's hard constraints as an LTLf formula, planned on the product of the grid and
+    /// the formula's automaton (`product_lower`).
+    Ltl,
 }
 
 /// Plans `problem` with the chosen planner.
@@ -49,5 +54,6 @@ pub fn plan(problem: &PlanProblem, kind: PlannerKind) -> PlannedRoute {
         PlannerKind::Sequential => plan_sequential(problem),
         PlannerKind::Global => plan_global(problem),
         PlannerKind::Shortest => plan_shortest(problem),
+        PlannerKind::Ltl => product_lower::plan_ltl(problem),
     }
 }

@@ -121,7 +121,7 @@ pub fn run(command: BenchCommand) -> Result<ExitCode> {
     }
 }
 
-fn show_progress() -> bool {
+pub(crate) fn show_progress() -> bool {
     let ci = std::env::var("CI")
         .map(|v| !v.is_empty() && v != "0" && v != "false")
         .unwrap_or(false);
@@ -245,7 +245,7 @@ fn capped_threads(requested: usize) -> usize {
     }
 }
 
-fn rayon_pool(threads: usize) -> Result<rayon::ThreadPool> {
+pub(crate) fn rayon_pool(threads: usize) -> Result<rayon::ThreadPool> {
     if threads == 0 {
         return Err(unusable(anyhow::anyhow!("--threads must be at least 1")));
     }

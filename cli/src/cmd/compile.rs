@@ -37,7 +37,9 @@ pub struct CompileArgs {
     /// (the summary then goes to standard error).
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
-    /// What `-o` receives (`ir` without `-o` prints the RouteIR to stdout).
+    /// What `-o` receives (`ir` without `-o` prints the RouteIR to stdout). `ltl`, `dfa`, `hoa`
+    /// and `dot` are the route's hard constraints as an LTLf formula and its minimal automaton
+    /// (JSON, HOA, Graphviz); without `-o` they go to stdout.
     #[arg(long, value_enum, default_value_t = Emit::Route)]
     pub emit: Emit,
     /// Draw the route over the map into this PNG.
@@ -59,6 +61,10 @@ pub struct CompileArgs {
 pub enum Emit {
     Route,
     Ir,
+    Ltl,
+    Dfa,
+    Hoa,
+    Dot,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -66,6 +72,9 @@ pub enum Planner {
     Sequential,
     Global,
     Shortest,
+    /// The LTL backend: the route's hard constraints as an LTLf automaton, planned on the product
+    /// of the grid and the automaton (soft preferences dropped).
+    Ltl,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -192,6 +201,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             Planner::Sequential => PlannerKind::Sequential,
             Planner::Global => PlannerKind::Global,
             Planner::Shortest => PlannerKind::Shortest,
+            Planner::Ltl => PlannerKind::Ltl,
         },
         start,
         ..PipelineOptions::default()
@@ -206,6 +216,14 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     // Build every output before writing any.
     let ir_json = compiled.ir.to_json();
     let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;
+    let ltl_text = match ltl_emit(args.emit) {
+        Some(kind) => Some(
+            m2rc_compiler::ltl::emit(&compiled.ltl_route(), kind, &compiled.ir.map_id)
+                .map_err(anyhow::Error::msg)
+                .context("cannot build the route's automaton")?,
+        ),
+        None => None,
+    };
     let png = match &args.png {
         Some(_) => Some(
             render_map(&shown_map(&map, &compiled), &render_options(&compiled))
@@ -217,6 +235,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     match (&args.output, args.emit) {
         (Some(out), Emit::Route) => write_atomic(out, route_json.as_bytes())?,
         (Some(out), Emit::Ir) => write_atomic(out, ir_json.as_bytes())?,
+        (Some(out), _) => write_atomic(out, ltl_text.as_deref().unwrap_or("").as_bytes())?,
         (None, _) => {}
     }
     if let (Some(path), Some(png)) = (&args.png, png) {
@@ -243,6 +262,8 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             }
             if args.emit == Emit::Ir && args.output.is_none() {
                 say(format!("{ir_json}\n"))?;
+            } else if let (Some(text), None) = (&ltl_text, &args.output) {
+                say(text.clone())?;
             } else {
                 say(summary_text(&compiled))?;
             }
@@ -259,6 +280,18 @@ fn shown_map(map: &SemanticMap, c: &CompiledRoute) -> SemanticMap {
         shown.start = Some(s);
     }
     shown
+}
+
+/// The LTL backend's output for `--emit`, if it is one of its kinds.
+fn ltl_emit(e: Emit) -> Option<m2rc_compiler::ltl::EmitKind> {
+    use m2rc_compiler::ltl::EmitKind;
+    match e {
+        Emit::Route | Emit::Ir => None,
+        Emit::Ltl => Some(EmitKind::Ltl),
+        Emit::Dfa => Some(EmitKind::Dfa),
+        Emit::Hoa => Some(EmitKind::Hoa),
+        Emit::Dot => Some(EmitKind::Dot),
+    }
 }
 
 fn print_diagnostics(diags: &[Diagnostic], file_name: &str, source: &str, format: Format) {

@@ -1,11 +1,13 @@
 //! One module per subcommand.
 
+pub mod ablate;
 pub mod bench;
 pub mod check;
 pub mod compile;
 pub mod eval;
 pub mod fmt;
 pub mod lsp;
+pub mod ltl;
 pub mod map;
 pub mod map_check;
 pub mod prompt;

@@ -296,6 +296,32 @@ codes! {
         "";
     InvalidPlanProblem = "E0708", Error, "invalid planning problem",
         "";
+
+    // --- E08xx: the LTL backend (compiler::ltl, planner::product) ----------------------------
+    LtlSyntax = "E0801", Error, "malformed LTL formula",
+        "";
+    LtlUnsupported = "E0802", Error, "unsupported operator in an LTL formula",
+        "";
+    LtlUnbalanced = "E0803", Error, "unbalanced parentheses in an LTL formula",
+        "";
+    LtlUnknownAtom = "E0804", Error, "unknown atom in an LTL formula",
+        "";
+    LtlNotPlace = "E0805", Error, "LTL atom is not a place",
+        "";
+    LtlInfiniteIdiom = "E0806", Error, "LTL formula has no meaning on a finite route",
+        "";
+    LtlUnsatisfiable = "E0807", Error, "LTL formula is unsatisfiable",
+        "";
+    LtlNoRoute = "E0808", Error, "no route on this map satisfies the LTL formula",
+        "";
+    LtlDropped = "E0809", Warning, "constraint ignored by the LTL planner",
+        "";
+    LtlTooLarge = "E0810", Error, "LTL automaton too large",
+        "";
+    LtlNextStep = "E0811", Warning, "`X` counts grid cells, not places",
+        "";
+    LtlMixedRoute = "E0812", Error, "`go` stage in an LTL route",
+        "";
 }
 
 #[cfg(test)]

@@ -119,6 +119,8 @@ impl Grounder<'_, '_> {
                     }
                 },
                 RouteItem::Error(_) => {}
+                // Grounded through its atoms: `ltl::program` turns the form into stages first.
+                RouteItem::Ltl(_) => {}
             }
         }
         self.scopes.truncate(depth);

@@ -161,7 +161,7 @@ fn binding_type(text: &str, name: &str, vocab: &Vocabulary) -> Option<String> {
                     }
                 }
                 RouteItem::For(f) => route_lets(&f.body, out),
-                RouteItem::Constraint(_) | RouteItem::Error(_) => {}
+                RouteItem::Constraint(_) | RouteItem::Error(_) | RouteItem::Ltl(_) => {}
             }
         }
     }

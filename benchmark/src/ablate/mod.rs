@@ -1,0 +1,231 @@
+//! `m2rc ablate`: the paper's ablations as commands. Each ablation is a list of method variants
+//! run over a suite with the benchmark runner (parallel, resumable, sharded: each variant has its
+//! own run directory, `<out>/<ablation>/<variant>/`) and reported as one table in the `bench
+//! report` layout (`<out>/<ablation>/table.{md,csv,json}`). `docs/ablations.md` says what each
+//! changes and how to reproduce it.
+
+pub mod variants;
+
+use crate::methods::Method;
+use crate::report::{MethodRun, load_run, table};
+use crate::runner::{RunError, RunOptions, Shard, run, write_atomic};
+use m2rc_planner::{CostProfile, PlannerKind};
+use std::path::{Path, PathBuf};
+use variants::GoldVariant;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ablation {
+    /// The same grounding planned through RouteIR and through the LTL backend.
+    LtlVsRouteir,
+    /// Repair rounds R = 0..3 of the LLM method.
+    RepairRounds,
+    /// Global-T, Global-S, Global-TS and Hard-only on the frozen RouteIR.
+    Scopes,
+    /// Shortest feasible, sequential and global planners on the gold programs.
+    OraclePlanner,
+}
+
+impl Ablation {
+    pub const ALL: [Ablation; 4] = [
+        Ablation::LtlVsRouteir,
+        Ablation::RepairRounds,
+        Ablation::Scopes,
+        Ablation::OraclePlanner,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Ablation::LtlVsRouteir => "ltl-vs-routeir",
+            Ablation::RepairRounds => "repair-rounds",
+            Ablation::Scopes => "scopes",
+            Ablation::OraclePlanner => "oracle-planner",
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<Ablation> {
+        Ablation::ALL.into_iter().find(|a| a.name() == s)
+    }
+
+    /// One line on what the ablation changes.
+    pub fn description(self) -> &'static str {
+        match self {
+            Ablation::LtlVsRouteir => {
+                "the gold program's grounding planned through RouteIR (sequential planner, full cost model; \
+                 global planner on the hard constraints only) and through the LTL backend (RouteIR -> LTLf -> \
+                 minimal DFA -> product-graph A*; soft preferences dropped)"
+            }
+            Ablation::RepairRounds => "the LLM method with R = 0, 1, 2, 3 repair rounds",
+            Ablation::Scopes => {
+                "scopes removed from the frozen RouteIR of the gold program (method notes §4.9): Global-T \
+                 (every stage scope), Global-S (every spatial scope, default room scopes included), Global-TS \
+                 (both), Hard-only (soft preferences, soft field and clearance dropped; path-shape waypoints \
+                 merged)"
+            }
+            Ablation::OraclePlanner => {
+                "the gold program planned by the shortest-feasible, sequential and global planners (the \
+                 paper's Table IV)"
+            }
+        }
+    }
+
+    /// The variants compared, in table order.
+    pub fn variants(self) -> Result<Vec<Box<dyn Method>>, String> {
+        let gold = |name: &str, planner, profile| -> Box<dyn Method> {
+            Box::new(GoldVariant::new(name, planner, profile))
+        };
+        let scoped =
+            |name: &str, t: fn(&mut m2rc_compiler::ir::RouteIr), profile| -> Box<dyn Method> {
+                let mut v = GoldVariant::new(name, PlannerKind::Sequential, profile);
+                v.transform = Some(t);
+                Box::new(v) as Box<dyn Method>
+            };
+        Ok(match self {
+            Ablation::LtlVsRouteir => vec![
+                gold(
+                    "gold+routeir",
+                    PlannerKind::Sequential,
+                    CostProfile::reference(),
+                ),
+                gold(
+                    "gold+routeir-global-hard",
+                    PlannerKind::Global,
+                    CostProfile::shortest(),
+                ),
+                {
+                    let mut v =
+                        GoldVariant::new("gold+ltl", PlannerKind::Ltl, CostProfile::reference());
+                    v.note = Some("LTL planner: soft preferences and path shapes dropped");
+                    Box::new(v) as Box<dyn Method>
+                },
+            ],
+            Ablation::RepairRounds => return Err(repair_rounds_missing()),
+            Ablation::Scopes => vec![
+                gold("full", PlannerKind::Sequential, CostProfile::reference()),
+                scoped(
+                    "global-t",
+                    variants::no_stage_scope,
+                    CostProfile::reference(),
+                ),
+                scoped(
+                    "global-s",
+                    variants::no_spatial_scope,
+                    CostProfile::reference(),
+                ),
+                scoped("global-ts", variants::no_scope, CostProfile::reference()),
+                scoped("hard-only", variants::no_soft, CostProfile::hard_only()),
+            ],
+            Ablation::OraclePlanner => vec![
+                gold("shortest", PlannerKind::Shortest, CostProfile::shortest()),
+                gold(
+                    "sequential",
+                    PlannerKind::Sequential,
+                    CostProfile::reference(),
+                ),
+                gold("global", PlannerKind::Global, CostProfile::reference()),
+            ],
+        })
+    }
+}
+
+/// Why `repair-rounds` cannot run in this build.
+pub fn repair_rounds_missing() -> String {
+    "`ablate repair-rounds` needs the LLM method (`grounding2route` with its repair-round flag, \
+     issue 10), which this build does not have yet; the other ablations run without it"
+        .into()
+}
+
+#[derive(Clone, Debug)]
+pub struct AblateOptions {
+    pub suite: PathBuf,
+    pub out: PathBuf,
+    pub shard: Option<Shard>,
+    pub split: String,
+    pub progress: bool,
+}
+
+/// One finished ablation: its table and where it was written.
+#[derive(Clone, Debug)]
+pub struct AblationResult {
+    pub ablation: Ablation,
+    pub table: table::Table,
+    pub dir: PathBuf,
+    pub markdown: String,
+}
+
+/// Runs every variant of `ab` (resuming finished records) and writes its table.
+pub fn run_ablation(ab: Ablation, opts: &AblateOptions) -> Result<AblationResult, RunError> {
+    let variants = ab.variants().map_err(RunError::Invalid)?;
+    let dir = opts.out.join(ab.name());
+    let mut runs: Vec<MethodRun> = Vec::new();
+    for v in &variants {
+        let vdir = dir.join(v.name());
+        run(
+            v.as_ref(),
+            &RunOptions {
+                suite: opts.suite.clone(),
+                out: vdir.clone(),
+                shard: opts.shard,
+                split: opts.split.clone(),
+                progress: opts.progress,
+            },
+        )?;
+        runs.push(load_run(&vdir)?);
+    }
+    let t = table::table(&runs);
+    let markdown = section(ab, &t, opts);
+    write(&dir.join("table.md"), &markdown)?;
+    write(&dir.join("table.csv"), &table::csv(&t))?;
+    write(&dir.join("table.json"), &(table::json(&t) + "\n"))?;
+    Ok(AblationResult {
+        ablation: ab,
+        table: t,
+        dir,
+        markdown,
+    })
+}
+
+fn write(path: &Path, text: &str) -> Result<(), RunError> {
+    write_atomic(path, text.as_bytes()).map_err(|e| RunError::Io {
+        path: path.display().to_string(),
+        source: e,
+    })
+}
+
+fn section(ab: Ablation, t: &table::Table, opts: &AblateOptions) -> String {
+    let mut out = format!("## Ablation `{}`\n\n{}.\n\n", ab.name(), ab.description());
+    out.push_str(&format!(
+        "Suite `{}`, split `{}`{}.\n\n",
+        opts.suite.display(),
+        opts.split,
+        opts.shard
+            .map(|s| format!(", shard {s} only"))
+            .unwrap_or_default()
+    ));
+    out.push_str(&table::markdown(t));
+    out
+}
+
+/// Runs every ablation that this build can run; writes `<out>/ablations.md` with all tables and,
+/// for an ablation that cannot run, the reason.
+pub fn run_all(opts: &AblateOptions) -> Result<Vec<AblationResult>, RunError> {
+    let mut results = Vec::new();
+    let mut report = String::from("# Ablations\n\n");
+    for ab in Ablation::ALL {
+        match ab.variants() {
+            Err(why) => {
+                report.push_str(&format!(
+                    "## Ablation `{}`\n\nNot run: {why}.\n\n",
+                    ab.name()
+                ));
+            }
+            Ok(_) => {
+                let r = run_ablation(ab, opts)?;
+                report.push_str(&r.markdown);
+                report.push('\n');
+                results.push(r);
+            }
+        }
+    }
+    write(&opts.out.join("ablations.md"), &report)?;
+    Ok(results)
+}

@@ -1,0 +1,81 @@
+//! `m2rc ablate <which> --suite S [--out DIR]`: the paper's ablations (`m2rc_benchmark::ablate`).
+
+use anyhow::{Result, bail};
+use clap::{Args, ValueEnum};
+use m2rc_benchmark::ablate::{self, AblateOptions, Ablation};
+use m2rc_benchmark::runner::Shard;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Which {
+    /// Gold programs planned through RouteIR and through the LTL backend.
+    LtlVsRouteir,
+    /// The LLM method with R = 0..3 repair rounds.
+    RepairRounds,
+    /// Global-T, Global-S, Global-TS and Hard-only on the frozen RouteIR.
+    Scopes,
+    /// Shortest-feasible, sequential and global planners on gold programs.
+    OraclePlanner,
+    /// Every ablation, one report (`<out>/ablations.md`).
+    All,
+}
+
+#[derive(Args)]
+pub struct AblateArgs {
+    #[arg(value_enum)]
+    pub which: Which,
+    /// Suite directory (holds suite.json).
+    #[arg(long)]
+    pub suite: PathBuf,
+    /// Output directory: `<out>/<ablation>/<variant>/` run directories and
+    /// `<out>/<ablation>/table.{md,csv,json}`.
+    #[arg(long, default_value = "ablations")]
+    pub out: PathBuf,
+    /// Run only shard k of N (1-based) of every variant.
+    #[arg(long)]
+    pub shard: Option<Shard>,
+    /// Which scenes: eval (the paper's evaluation scenes), dev or all.
+    #[arg(long, default_value = "eval")]
+    pub split: String,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+pub fn run(a: AblateArgs) -> Result<ExitCode> {
+    let opts = AblateOptions {
+        suite: a.suite,
+        out: a.out.clone(),
+        shard: a.shard,
+        split: a.split,
+        progress: super::bench::show_progress(),
+    };
+    let go = || -> Result<String> {
+        Ok(match a.which {
+            Which::All => {
+                ablate::run_all(&opts)?;
+                std::fs::read_to_string(opts.out.join("ablations.md"))?
+            }
+            w => {
+                let ab = match w {
+                    Which::LtlVsRouteir => Ablation::LtlVsRouteir,
+                    Which::RepairRounds => Ablation::RepairRounds,
+                    Which::Scopes => Ablation::Scopes,
+                    Which::OraclePlanner | Which::All => Ablation::OraclePlanner,
+                };
+                if let Err(why) = ab.variants() {
+                    bail!("{why}");
+                }
+                ablate::run_ablation(ab, &opts)?.markdown
+            }
+        })
+    };
+    let text = match a.threads {
+        Some(t) => super::bench::rayon_pool(t)?.install(go)?,
+        None => go()?,
+    };
+    print!("{text}");
+    println!("\ntables written under {}", a.out.display());
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,554 @@
+//! LTLf → minimal DFA by formula progression, with symbolic guards.
+//!
+//! A state is a residual formula (hash-consed, ACI-normalised, in [`Arena`]). To leave a state,
+//! its formula is unfolded once into a propositional part about the current letter and
+//! obligations for the rest of the route (`F a` = `a | X F a`, `a U b` = `b | a & X(a U b)`, ...),
+//! and the atoms are then decided one at a time (Shannon expansion, ascending atom order) with
+//! constant folding after each decision. A branch stops as soon as no atom is left undecided, so
+//! a state with a few relevant atoms gets a few cubes, not 2^k letters; each leaf's obligations
+//! form the successor formula. A state accepts when its formula holds on the empty suffix.
+//!
+//! Minimisation is Moore partition refinement on the symbolic edges: two states stay together while
+//! their acceptance agrees and, for every pair of their edges whose cubes intersect, the targets
+//! are in the same block. Edges of a state cover the alphabet exactly once, so this is the usual
+//! letter-by-letter refinement without enumerating letters.
+
+use super::formula::{Arena, Id, Node};
+use super::syntax::Formula;
+use petgraph::graph::{DiGraph, NodeIndex};
+use std::collections::{HashMap, VecDeque};
+
+/// A conjunction of literals: atoms in `pos` true, atoms in `neg` false (bit `i` = atom `i`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Cube {
+    pub pos: u64,
+    pub neg: u64,
+}
+
+impl Cube {
+    pub fn matches(self, letter: u64) -> bool {
+        letter & self.pos == self.pos && letter & self.neg == 0
+    }
+
+    pub fn intersects(self, o: Cube) -> bool {
+        (self.pos | o.pos) & (self.neg | o.neg) == 0
+    }
+}
+
+/// A propositional guard: a disjunction of cubes (empty = `false`, one empty cube = `true`).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Guard(pub Vec<Cube>);
+
+impl Guard {
+    pub fn matches(&self, letter: u64) -> bool {
+        self.0.iter().any(|c| c.matches(letter))
+    }
+
+    /// The guard in the formula text syntax over `atoms` (`a & !b | c`).
+    pub fn text(&self, atoms: &[String]) -> String {
+        if self.0.is_empty() {
+            return "false".into();
+        }
+        let cube = |c: &Cube| {
+            let lits: Vec<String> = (0..atoms.len())
+                .filter_map(|i| {
+                    if c.pos >> i & 1 == 1 {
+                        Some(atoms[i].clone())
+                    } else if c.neg >> i & 1 == 1 {
+                        Some(format!("!{}", atoms[i]))
+                    } else {
+                        None
+                    }
+                })
+                .collect();
+            if lits.is_empty() {
+                "true".to_string()
+            } else {
+                lits.join(" & ")
+            }
+        };
+        self.0.iter().map(cube).collect::<Vec<_>>().join(" | ")
+    }
+
+    /// Merges cubes that differ in one literal and drops subsumed ones, until nothing changes.
+    fn simplify(mut cubes: Vec<Cube>) -> Guard {
+        loop {
+            cubes.sort();
+            cubes.dedup();
+            let mut changed = false;
+            'outer: for i in 0..cubes.len() {
+                for j in 0..cubes.len() {
+                    if i == j {
+                        continue;
+                    }
+                    let (a, b) = (cubes[i], cubes[j]);
+                    // a subsumes b when a's literals are a subset of b's.
+                    if a.pos & b.pos == a.pos && a.neg & b.neg == a.neg {
+                        cubes.remove(j);
+                        changed = true;
+                        break 'outer;
+                    }
+                    let (da, db) = (a.pos ^ b.pos, a.neg ^ b.neg);
+                    if da == db && da.count_ones() == 1 && (a.pos | a.neg) == (b.pos | b.neg) {
+                        let merged = Cube {
+                            pos: a.pos & !da,
+                            neg: a.neg & !da,
+                        };
+                        cubes[i] = merged;
+                        cubes.remove(j);
+                        changed = true;
+                        break 'outer;
+                    }
+                }
+            }
+            if !changed {
+                return Guard(cubes);
+            }
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Edge {
+    pub from: usize,
+    pub to: usize,
+    pub guard: Guard,
+}
+
+/// A complete deterministic automaton over the valuations of `atoms`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dfa {
+    pub atoms: Vec<String>,
+    pub initial: usize,
+    pub accepting: Vec<bool>,
+    /// Per state, its outgoing edges; the guards of a state are disjoint and cover every letter.
+    pub edges: Vec<Vec<Edge>>,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum BuildError {
+    /// More atoms than a letter mask holds.
+    TooManyAtoms(usize),
+    /// The construction passed its state budget.
+    TooManyStates(usize),
+    /// The formula names an atom not in the list.
+    UnknownAtom(String),
+}
+
+impl std::fmt::Display for BuildError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BuildError::TooManyAtoms(n) => {
+                write!(f, "{n} atoms: at most {MAX_ATOMS} are supported")
+            }
+            BuildError::TooManyStates(n) => {
+                write!(f, "the automaton passed {n} states; simplify the formula")
+            }
+            BuildError::UnknownAtom(a) => write!(f, "unknown atom `{a}`"),
+        }
+    }
+}
+
+pub const MAX_ATOMS: usize = 64;
+/// States explored before giving up (the formula is then far larger than a route needs).
+pub const MAX_STATES: usize = 20_000;
+
+/// The unfolded form of a state: the current letter's part and the obligations for the rest.
+#[derive(Clone, Debug, PartialEq)]
+enum Now {
+    T,
+    F,
+    Lit(u32, bool),
+    Obl(Id),
+    And(Vec<Now>),
+    Or(Vec<Now>),
+}
+
+fn unfold(a: &mut Arena, id: Id) -> Now {
+    match a.node(id).clone() {
+        Node::True | Node::NonEmpty => Now::T,
+        Node::False | Node::End => Now::F,
+        Node::Lit { atom, negated } => Now::Lit(atom, negated),
+        Node::And(c) => Now::And(c.iter().map(|&x| unfold(a, x)).collect()),
+        Node::Or(c) => Now::Or(c.iter().map(|&x| unfold(a, x)).collect()),
+        Node::Next(x) => {
+            let ne = a.non_empty();
+            Now::Obl(a.and([ne, x]))
+        }
+        Node::WeakNext(x) => {
+            let end = a.end();
+            Now::Obl(a.or([end, x]))
+        }
+        Node::Until(x, y) => Now::Or(vec![
+            unfold(a, y),
+            Now::And(vec![unfold(a, x), Now::Obl(id)]),
+        ]),
+        Node::Release(x, y) => Now::And(vec![
+            unfold(a, y),
+            Now::Or(vec![unfold(a, x), Now::Obl(id)]),
+        ]),
+        Node::Eventually(x) => Now::Or(vec![unfold(a, x), Now::Obl(id)]),
+        Node::Always(x) => Now::And(vec![unfold(a, x), Now::Obl(id)]),
+    }
+}
+
+/// `now` with `atom` set to `value`, constant-folded.
+fn assign(now: &Now, atom: u32, value: bool) -> Now {
+    match now {
+        Now::Lit(x, neg) if *x == atom => {
+            if value != *neg {
+                Now::T
+            } else {
+                Now::F
+            }
+        }
+        Now::And(c) => {
+            let mut out = Vec::new();
+            for p in c {
+                match assign(p, atom, value) {
+                    Now::T => {}
+                    Now::F => return Now::F,
+                    q => out.push(q),
+                }
+            }
+            match out.len() {
+                0 => Now::T,
+                1 => out.pop().unwrap_or(Now::T),
+                _ => Now::And(out),
+            }
+        }
+        Now::Or(c) => {
+            let mut out = Vec::new();
+            for p in c {
+                match assign(p, atom, value) {
+                    Now::F => {}
+                    Now::T => return Now::T,
+                    q => out.push(q),
+                }
+            }
+            match out.len() {
+                0 => Now::F,
+                1 => out.pop().unwrap_or(Now::F),
+                _ => Now::Or(out),
+            }
+        }
+        other => other.clone(),
+    }
+}
+
+fn first_atom(now: &Now) -> Option<u32> {
+    match now {
+        Now::Lit(x, _) => Some(*x),
+        Now::And(c) | Now::Or(c) => c.iter().filter_map(first_atom).min(),
+        _ => None,
+    }
+}
+
+fn residual(a: &mut Arena, now: &Now) -> Id {
+    match now {
+        Now::T => Arena::TRUE,
+        Now::F | Now::Lit(..) => Arena::FALSE,
+        Now::Obl(x) => *x,
+        Now::And(c) => {
+            let parts: Vec<Id> = c.iter().map(|p| residual(a, p)).collect();
+            a.and(parts)
+        }
+        Now::Or(c) => {
+            let parts: Vec<Id> = c.iter().map(|p| residual(a, p)).collect();
+            a.or(parts)
+        }
+    }
+}
+
+fn split(a: &mut Arena, now: Now, cube: Cube, out: &mut Vec<(Cube, Id)>) {
+    match first_atom(&now) {
+        None => {
+            let r = residual(a, &now);
+            out.push((cube, r));
+        }
+        Some(x) => {
+            let bit = 1u64 << x;
+            let t = assign(&now, x, true);
+            split(
+                a,
+                t,
+                Cube {
+                    pos: cube.pos | bit,
+                    ..cube
+                },
+                out,
+            );
+            let f = assign(&now, x, false);
+            split(
+                a,
+                f,
+                Cube {
+                    neg: cube.neg | bit,
+                    ..cube
+                },
+                out,
+            );
+        }
+    }
+}
+
+impl Dfa {
+    /// The automaton of `formula` over `atoms` (every atom of the formula must be listed; atoms
+    /// not in the formula are allowed and simply never constrain a guard).
+    pub fn build(formula: &Formula, atoms: &[String], minimise: bool) -> Result<Dfa, BuildError> {
+        if atoms.len() > MAX_ATOMS {
+            return Err(BuildError::TooManyAtoms(atoms.len()));
+        }
+        let index: HashMap<&str, u32> = atoms
+            .iter()
+            .enumerate()
+            .map(|(i, a)| (a.as_str(), i as u32))
+            .collect();
+        let mut arena = Arena::new();
+        let root = arena
+            .from_formula(formula, false, &|n| index.get(n).copied())
+            .map_err(|_| {
+                BuildError::UnknownAtom(
+                    formula
+                        .atoms()
+                        .into_iter()
+                        .find(|a| !index.contains_key(a))
+                        .unwrap_or_default()
+                        .to_string(),
+                )
+            })?;
+        let raw = explore(&mut arena, root, atoms)?;
+        Ok(if minimise { raw.minimised() } else { raw })
+    }
+
+    pub fn states(&self) -> usize {
+        self.accepting.len()
+    }
+
+    /// The state after reading `letter` in state `q`.
+    pub fn step(&self, q: usize, letter: u64) -> usize {
+        self.edges[q]
+            .iter()
+            .find(|e| e.guard.matches(letter))
+            .map_or(q, |e| e.to)
+    }
+
+    /// Whether the automaton accepts `trace` (letters as atom bit masks).
+    pub fn accepts(&self, trace: &[u64]) -> bool {
+        let q = trace.iter().fold(self.initial, |q, &l| self.step(q, l));
+        self.accepting[q]
+    }
+
+    /// The automaton as a petgraph graph (node weight: accepting; edge weight: guard).
+    pub fn graph(&self) -> (DiGraph<bool, Guard>, Vec<NodeIndex>) {
+        let mut g = DiGraph::new();
+        let nodes: Vec<NodeIndex> = self.accepting.iter().map(|&a| g.add_node(a)).collect();
+        for e in self.edges.iter().flatten() {
+            g.add_edge(nodes[e.from], nodes[e.to], e.guard.clone());
+        }
+        (g, nodes)
+    }
+
+    /// States from which an accepting state is reachable (a state that is not live is a sink).
+    pub fn live(&self) -> Vec<bool> {
+        let (mut g, nodes) = self.graph();
+        g.reverse();
+        let mut live = vec![false; self.states()];
+        for (q, &acc) in self.accepting.iter().enumerate() {
+            if acc && !live[q] {
+                let mut dfs = petgraph::visit::Dfs::new(&g, nodes[q]);
+                while let Some(n) = dfs.next(&g) {
+                    live[n.index()] = true;
+                }
+            }
+        }
+        live
+    }
+
+    /// Whether some finite non-empty trace is accepted.
+    pub fn is_satisfiable(&self) -> bool {
+        let live = self.live();
+        // The empty trace does not count: some edge out of the initial state must stay live.
+        self.edges[self.initial].iter().any(|e| live[e.to])
+    }
+
+    fn minimised(&self) -> Dfa {
+        let n = self.states();
+        let mut block: Vec<usize> = self.accepting.iter().map(|&a| a as usize).collect();
+        loop {
+            // Signature of a state relative to a block representative: compare edge by edge.
+            let mut reps: Vec<usize> = Vec::new();
+            let mut next = vec![0usize; n];
+            for q in 0..n {
+                let found =
+                    reps.iter().position(|&r| {
+                        block[r] == block[q]
+                            && self.edges[q].iter().all(|e1| {
+                                self.edges[r].iter().all(|e2| {
+                                    block[e1.to] == block[e2.to]
+                                        || !e1.guard.0.iter().any(|c1| {
+                                            e2.guard.0.iter().any(|c2| c1.intersects(*c2))
+                                        })
+                                })
+                            })
+                    });
+                next[q] = match found {
+                    Some(k) => k,
+                    None => {
+                        reps.push(q);
+                        reps.len() - 1
+                    }
+                };
+            }
+            let mut distinct = block.clone();
+            distinct.sort_unstable();
+            distinct.dedup();
+            let (before, after) = (distinct.len(), reps.len());
+            block = next;
+            if after == before {
+                break;
+            }
+        }
+        // Renumber blocks in breadth-first order from the initial state.
+        let mut order: HashMap<usize, usize> = HashMap::new();
+        let mut queue = VecDeque::from([self.initial]);
+        let mut seen = vec![false; n];
+        seen[self.initial] = true;
+        let mut rep_of: Vec<usize> = Vec::new();
+        while let Some(q) = queue.pop_front() {
+            if !order.contains_key(&block[q]) {
+                order.insert(block[q], rep_of.len());
+                rep_of.push(q);
+            }
+            for e in &self.edges[q] {
+                if !seen[e.to] {
+                    seen[e.to] = true;
+                    queue.push_back(e.to);
+                }
+            }
+        }
+        let mut edges = Vec::with_capacity(rep_of.len());
+        for (k, &q) in rep_of.iter().enumerate() {
+            let mut by_target: Vec<(usize, Vec<Cube>)> = Vec::new();
+            for e in &self.edges[q] {
+                let to = order[&block[e.to]];
+                match by_target.iter_mut().find(|(t, _)| *t == to) {
+                    Some((_, c)) => c.extend(e.guard.0.iter().copied()),
+                    None => by_target.push((to, e.guard.0.clone())),
+                }
+            }
+            edges.push(
+                by_target
+                    .into_iter()
+                    .map(|(to, cubes)| Edge {
+                        from: k,
+                        to,
+                        guard: Guard::simplify(cubes),
+                    })
+                    .collect(),
+            );
+        }
+        Dfa {
+            atoms: self.atoms.clone(),
+            initial: 0,
+            accepting: rep_of.iter().map(|&q| self.accepting[q]).collect(),
+            edges,
+        }
+    }
+}
+
+fn explore(arena: &mut Arena, root: Id, atoms: &[String]) -> Result<Dfa, BuildError> {
+    let mut states: Vec<Id> = vec![root];
+    let mut index: HashMap<Id, usize> = HashMap::from([(root, 0)]);
+    let mut edges: Vec<Vec<Edge>> = Vec::new();
+    let mut q = 0;
+    while q < states.len() {
+        let now = unfold(arena, states[q]);
+        let mut leaves = Vec::new();
+        split(arena, now, Cube::default(), &mut leaves);
+        let mut out: Vec<(usize, Vec<Cube>)> = Vec::new();
+        for (cube, succ) in leaves {
+            let to = match index.get(&succ) {
+                Some(&t) => t,
+                None => {
+                    if states.len() >= MAX_STATES {
+                        return Err(BuildError::TooManyStates(MAX_STATES));
+                    }
+                    states.push(succ);
+                    index.insert(succ, states.len() - 1);
+                    states.len() - 1
+                }
+            };
+            match out.iter_mut().find(|(t, _)| *t == to) {
+                Some((_, c)) => c.push(cube),
+                None => out.push((to, vec![cube])),
+            }
+        }
+        edges.push(
+            out.into_iter()
+                .map(|(to, cubes)| Edge {
+                    from: q,
+                    to,
+                    guard: Guard(cubes),
+                })
+                .collect(),
+        );
+        q += 1;
+    }
+    Ok(Dfa {
+        atoms: atoms.to_vec(),
+        initial: 0,
+        accepting: states.iter().map(|&s| arena.accepts_empty(s)).collect(),
+        edges,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ltl::syntax::parse;
+
+    fn dfa(s: &str, atoms: &[&str]) -> Dfa {
+        let atoms: Vec<String> = atoms.iter().map(|a| a.to_string()).collect();
+        Dfa::build(&parse(s).unwrap(), &atoms, true).unwrap()
+    }
+
+    #[test]
+    fn sequenced_visit_with_avoid_is_small() {
+        let d = dfa("F(a & F b) & G !c", &["a", "b", "c"]);
+        // waiting for a, waiting for b, done, sink.
+        assert_eq!(d.states(), 4);
+        assert!(d.accepts(&[0b001, 0b010]));
+        assert!(d.accepts(&[0b011]));
+        assert!(!d.accepts(&[0b010, 0b001]));
+        assert!(!d.accepts(&[0b001, 0b110]));
+        assert!(d.is_satisfiable());
+    }
+
+    #[test]
+    fn unsatisfiable_and_next() {
+        assert!(!dfa("F a & G !a", &["a"]).is_satisfiable());
+        let d = dfa("X a", &["a"]);
+        assert!(!d.accepts(&[1]));
+        assert!(d.accepts(&[0, 1]));
+        let d = dfa("WX a", &["a"]);
+        assert!(d.accepts(&[0]));
+        assert!(!d.accepts(&[0, 0]));
+        let d = dfa("G a", &["a"]);
+        assert!(d.accepts(&[1, 1]));
+        assert!(!d.accepts(&[1, 0]));
+    }
+
+    #[test]
+    fn guards_print_in_the_formula_syntax() {
+        let d = dfa("F(a & b)", &["a", "b"]);
+        let texts: Vec<String> = d.edges[d.initial]
+            .iter()
+            .map(|e| e.guard.text(&d.atoms))
+            .collect();
+        assert!(texts.contains(&"a & b".to_string()), "{texts:?}");
+        for t in texts {
+            parse(&t).unwrap();
+        }
+    }
+}
