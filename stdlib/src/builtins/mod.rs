@@ -4,6 +4,7 @@
 //! hover text and the LLM prompt.
 
 pub mod signature;
+pub mod synonyms;
 pub mod table;
 pub mod types;
 
