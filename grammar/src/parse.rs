@@ -367,7 +367,8 @@ pub fn expected_words(expected: &[String]) -> Vec<String> {
         if *name == "invalid literal" {
             continue;
         }
-        if expr && EXPR_START.contains(name) {
+        if expr && (EXPR_START.contains(name) || *name == "[") {
+            // A set literal `[a, b]` is one more way to start an expression.
             push("an expression".to_string());
         } else if ops && OPERATORS.contains(name) {
             push("an operator".to_string());
