@@ -24,9 +24,30 @@ impl Checker<'_> {
                 format!("`{name}` is a method: call it on its receiver"),
             )
             .note(format!("signature: `{}`", m.signature(None)));
-            if let Some((first, rest)) = args.split_first()
+            let area = format!("area_{name}");
+            if let Some(f) = builtins::functions(&area).next() {
+                // `between(a, b)` means the area between them; `s.between(a, b)` would filter `s`.
+                d = d
+                    .help(format!(
+                        "the area {name} places is `{area}(...)`: `{}`",
+                        f.signature(None)
+                    ))
+                    .note(format!(
+                        "`s.{name}(...)` keeps the elements of a set `s` that lie {name} the places"
+                    ))
+                    .suggest(func.span, area.clone());
+            } else if let Some((first, rest)) = args.split_first()
                 && first.name.is_none()
+                && builtins::methods(name).any(|m| {
+                    let required = m
+                        .params
+                        .iter()
+                        .filter(|p| p.req == Requirement::Required)
+                        .count();
+                    rest.len() >= required && rest.len() <= m.params.len()
+                })
             {
+                // Only offered when the method form has the right number of arguments.
                 let recv = self.text(first.value.span);
                 let rest: Vec<&str> = rest.iter().map(|a| self.text(a.span)).collect();
                 let fixed = format!("{recv}.{name}({})", rest.join(", "));
@@ -46,7 +67,24 @@ impl Checker<'_> {
             .filter(|b| !b.is_method())
             .map(|b| b.name)
             .collect();
-        if let Some(best) = suggest::best(name, free.iter().copied()) {
+        let meant = builtins::synonyms::meaning(name);
+        if let Some(kw) = meant.filter(|m| builtins::synonyms::KEYWORD_MEANINGS.contains(m)) {
+            d = d.help(format!(
+                "`{kw}` is a constraint, not a function: write `{kw} <place>` as its own line in the stage"
+            ));
+        } else if let Some(m) = meant.filter(|m| builtins::functions(m).next().is_some()) {
+            let sig = builtins::functions(m)
+                .map(|b| b.signature(None))
+                .next()
+                .unwrap_or_default();
+            d = d
+                .help(format!("`{name}` means `{m}`: `{sig}`"))
+                .suggest(func.span, m);
+        } else if let Some(m) = meant {
+            d = d.help(format!(
+                "`{name}` means the method `.{m}(...)`: call it on a set"
+            ));
+        } else if let Some(best) = suggest::best(name, free.iter().copied()) {
             d = d
                 .help(format!("did you mean `{best}`?"))
                 .suggest(func.span, best);
@@ -306,6 +344,20 @@ impl Checker<'_> {
                         cats.join(" | ")
                     ))
                     .suggest(e.span, format!("{}({})", b.name, cats.join(" | ")));
+            } else if b.name == "area_between" && filled.iter().all(Option::is_some) {
+                // Three or more places: the enclosed-area variant, not a dropped argument.
+                let places: Vec<&str> = filled
+                    .iter()
+                    .flatten()
+                    .chain(extra.iter())
+                    .map(|&i| self.text(args[i].value.span))
+                    .collect();
+                let fixed = format!("area_enclosed([{}])", places.join(", "));
+                d = d
+                    .help(format!(
+                        "for the area enclosed by three or more places write `{fixed}`"
+                    ))
+                    .suggest(e.span, fixed);
             } else {
                 d = d
                     .help("remove the extra arguments")
@@ -336,23 +388,49 @@ impl Checker<'_> {
                         format!("`{}` is missing its argument `{}: {ty}`", b.name, p.name),
                     )
                     .help(format!("signature: `{}`", b.signature(Some(t))));
-                    let guess = match p.ty.first() {
-                        Some(Ty::Is(Type::Direction)) => Some("counterclockwise"),
-                        Some(Ty::Is(Type::Metric)) => Some("straight"),
-                        _ => None,
-                    };
-                    if let Some(g) = guess
-                        && self.text(e.span).ends_with(')')
+                    // `a.between(b)` on one place: the writer meant the area between the two.
+                    if b.name == "between"
+                        && args.len() == 1
+                        && let m2rc_grammar::ast::ExprKind::Method { receiver, .. } = &e.kind
+                        && self.types.get(&receiver.span).is_some_and(|t| t.is_place())
+                        && self.lambda_param_of(receiver).is_none()
                     {
+                        let fixed = format!(
+                            "area_between({}, {})",
+                            self.text(receiver.span),
+                            self.text(args[0].value.span)
+                        );
+                        d = d
+                            .help(format!("for the area between two places write `{fixed}`"))
+                            .suggest(e.span, fixed);
+                    }
+                    // A word the instruction must choose: offer every one, never pick.
+                    let words: Vec<&str> = builtins::ENUM_WORDS
+                        .iter()
+                        .filter(|w| p.ty.contains(&Ty::Is(w.ty)))
+                        .map(|w| w.name)
+                        .collect();
+                    if !words.is_empty() && self.text(e.span).ends_with(')') {
                         let at = Span::new(e.span.end - 1, e.span.end - 1);
                         let sep = if args.is_empty() { "" } else { ", " };
-                        d = d.suggest(at, format!("{sep}{}: {g}", p.name));
+                        for w in &words {
+                            d = d.suggest(at, format!("{sep}{}: {w}", p.name));
+                        }
+                        d = d.note(format!(
+                            "the instruction must decide between {}; none is assumed",
+                            words
+                                .iter()
+                                .map(|w| format!("`{w}`"))
+                                .collect::<Vec<_>>()
+                                .join(" and ")
+                        ));
                     }
                     self.report(d);
                 }
                 None => {}
             }
         }
+        self.check_ranges(b, args, &filled);
         self.calls.insert(
             e.span,
             CallInfo {

@@ -91,8 +91,13 @@ pub fn check(source: &str, vocab: &Vocabulary) -> CheckResult {
     let parsed = m2rc_grammar::parse(source);
     let mut diagnostics: Vec<Diagnostic> =
         parsed.errors.iter().map(Diagnostic::from_parse).collect();
+    crate::hints::two_word_categories(&mut diagnostics, source, vocab);
     let analysis = check_program(&parsed.program, source, vocab, !parsed.errors.is_empty());
-    diagnostics.extend(analysis.diagnostics);
+    let mut found = analysis.diagnostics;
+    if !parsed.errors.is_empty() {
+        crate::hints::suppress_follow_ons(&mut found, &crate::hints::broken_spans(&parsed.program));
+    }
+    diagnostics.extend(found);
     diagnostic::sort(&mut diagnostics);
     diagnostics.dedup();
     CheckResult {
@@ -193,3 +198,6 @@ impl<'a> Checker<'a> {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod tests_v2;

@@ -12,6 +12,7 @@ use crate::check::{Checker, Resolution};
 use crate::diagnostic::{Code, Diagnostic};
 use m2rc_grammar::ast::{Ident, Span};
 use m2rc_stdlib::builtins::{self, Type};
+use std::collections::HashMap;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 pub enum BindingKind {
@@ -45,6 +46,9 @@ pub(crate) enum FrameKind {
 pub(crate) struct Frame {
     pub kind: FrameKind,
     pub bindings: Vec<BindingInfo>,
+    /// Position in `bindings` by name (a frame holds one binding per name), so that a use is
+    /// resolved in O(depth) hash look-ups rather than by scanning every earlier `let`.
+    pub index: HashMap<String, usize>,
 }
 
 impl Checker<'_> {
@@ -52,6 +56,7 @@ impl Checker<'_> {
         self.scopes.push(Frame {
             kind,
             bindings: Vec::new(),
+            index: HashMap::new(),
         });
     }
 
@@ -117,7 +122,11 @@ impl Checker<'_> {
         let Some(frame) = self.scopes.last_mut() else {
             return;
         };
-        if let Some(prev) = frame.bindings.iter_mut().find(|b| b.name == ident.name) {
+        if let Some(prev) = frame
+            .index
+            .get(&ident.name)
+            .and_then(|&i| frame.bindings.get_mut(i))
+        {
             let prev_span = prev.span;
             // The first binding counts as used: the duplicate is the mistake, not the original.
             prev.used = true;
@@ -136,6 +145,7 @@ impl Checker<'_> {
             );
             return;
         }
+        frame.index.insert(ident.name.clone(), frame.bindings.len());
         frame.bindings.push(BindingInfo {
             name: ident.name.clone(),
             span: ident.span,
@@ -149,7 +159,11 @@ impl Checker<'_> {
     /// The innermost visible binding with this name, marked used.
     pub(crate) fn lookup_binding(&mut self, name: &str) -> Option<(Span, Type, BindingKind)> {
         for frame in self.scopes.iter_mut().rev() {
-            if let Some(b) = frame.bindings.iter_mut().rev().find(|b| b.name == name) {
+            if let Some(b) = frame
+                .index
+                .get(name)
+                .and_then(|&i| frame.bindings.get_mut(i))
+            {
                 b.used = true;
                 return Some((b.span, b.ty, b.kind));
             }
@@ -162,7 +176,7 @@ impl Checker<'_> {
         self.scopes
             .iter()
             .rev()
-            .find_map(|f| f.bindings.iter().rev().find(|b| b.name == name))
+            .find_map(|f| f.index.get(name).and_then(|&i| f.bindings.get(i)))
             .map(|b| b.ty)
     }
 

@@ -568,10 +568,19 @@ impl Checker<'_> {
         } else {
             self.expr(rhs, Slot::Any)
         };
+        // Places and sets of places unite into a set: `kitchen_room | living`, `[a, b]`.
+        let elem = |t: Type| match t {
+            Type::Set(e) => Some(e),
+            other => other.as_place(),
+        };
         match (a, b) {
             (Type::Error, _) | (_, Type::Error) => Type::Error,
             (Type::Set(x), Type::Set(y)) => Type::Set(x.join(y)),
             (Type::Category, Type::Category) => Type::Category,
+            (x, y) if elem(x).is_some() && elem(y).is_some() => match (elem(x), elem(y)) {
+                (Some(p), Some(q)) => Type::Set(p.join(q)),
+                _ => Type::Error,
+            },
             _ => {
                 let mixed =
                     (a == Type::Category && b.is_set()) || (b == Type::Category && a.is_set());

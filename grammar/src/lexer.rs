@@ -44,7 +44,7 @@ pub struct Dist {
 /// One token. Variants after `BadLiteral` never reach the parser as themselves (see the module
 /// docs); they exist so that their mistakes can be named.
 #[derive(Logos, Clone, Debug, PartialEq)]
-#[logos(skip r"[ \t\r\n\f]+")]
+#[logos(skip r"[ \t\r\n\f\u{FEFF}]+")]
 #[logos(error = LexError)]
 pub enum Tok<'s> {
     // **IMPORTANT** keep in sync with `KEYWORDS`.
@@ -93,8 +93,8 @@ pub enum Tok<'s> {
     Number(f64),
     #[regex(r"[0-9]+(\.[0-9]+)?[A-Za-z_][A-Za-z0-9_]*", lex_distance)]
     Distance(Dist),
-    #[regex(r#""([^"\\\n]|\\[^\n])*""#, lex_string)]
-    #[regex(r#""([^"\\\n]|\\[^\n])*"#, lex_unterminated)]
+    #[regex(r#""([^"\\\r\n]|\\[^\r\n])*""#, lex_string)]
+    #[regex(r#""([^"\\\r\n]|\\[^\r\n])*"#, lex_unterminated)]
     Str(String),
     /// Stands for a literal that failed to lex (its error is already reported), so that the
     /// parser can go on as if a value were there.
@@ -146,7 +146,7 @@ pub enum Tok<'s> {
     Slash,
 
     /// `// ...` to the end of the line (kept for the pretty-printer, never parsed).
-    #[regex(r"//[^\n]*", allow_greedy = true)]
+    #[regex(r"//[^\r\n]*", allow_greedy = true)]
     Comment(&'s str),
 
     // Mistakes with a dedicated message; `tokenize` reports and replaces them.
@@ -160,9 +160,9 @@ pub enum Tok<'s> {
     PipePipe,
     #[token("!")]
     Bang,
-    #[regex(r"#[^\n]*", allow_greedy = true)]
+    #[regex(r"#[^\r\n]*", allow_greedy = true)]
     HashComment,
-    #[regex(r"'([^'\\\n]|\\[^\n])*'?", lex_single_quoted)]
+    #[regex(r"'([^'\\\r\n]|\\[^\r\n])*'?", lex_single_quoted)]
     SingleQuoted,
 }
 

@@ -202,6 +202,20 @@ pub(crate) fn recovery_span<T>(l: usize, r: usize, rec: &ErrorRecovery<usize, T,
     Span::new(l.min(start), r.max(end))
 }
 
+/// `[a, b, c]` is read as `a | b | c` (so `m2rc fmt` writes it that way); `[a]` is `a`.
+pub(crate) fn set_literal(first: Expr, rest: Vec<Expr>, span: Span) -> Expr {
+    if rest.is_empty() {
+        return first;
+    }
+    let mut acc = first;
+    for e in rest {
+        let op_span = Span::new(acc.span.end, e.span.start);
+        acc = binary(BinOp::Union, op_span, acc, e);
+    }
+    acc.span = span;
+    acc
+}
+
 pub(crate) fn binary(op: BinOp, op_span: Span, lhs: Expr, rhs: Expr) -> Expr {
     let span = lhs.span.to(rhs.span);
     Expr {
@@ -353,7 +367,8 @@ pub fn expected_words(expected: &[String]) -> Vec<String> {
         if *name == "invalid literal" {
             continue;
         }
-        if expr && EXPR_START.contains(name) {
+        if expr && (EXPR_START.contains(name) || *name == "[") {
+            // A set literal `[a, b]` is one more way to start an expression.
             push("an expression".to_string());
         } else if ops && OPERATORS.contains(name) {
             push("an operator".to_string());
@@ -647,9 +662,12 @@ fn classify_unexpected(
         Tok::Colon if expects("{") => {
             err = err.with_help("blocks are written with braces: `if c { a } else { b }`")
         }
-        Tok::LBracket | Tok::RBracket => {
+        Tok::RBracket => {
+            err = err.with_help("a set literal lists at least one place: `[kitchen, living_room]`")
+        }
+        Tok::LBracket => {
             err = err.with_help(
-                "there are no list literals; sets come from `objects(...)`, `rooms(...)` and `|`",
+                "a set literal `[a, b]` stands where a value goes; sets also come from `objects(...)`, `rooms(...)` and `|`",
             )
         }
         Tok::Slash => {

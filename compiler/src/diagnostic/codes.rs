@@ -169,7 +169,7 @@ codes! {
     TooManyArguments = "E0205", Error, "too many arguments",
         "route { go objects(bed, sofa).only() }";
     MissingArgument = "E0206", Error, "missing argument",
-        "route { go start { prefer follow_wall(start.room()) } }";
+        "route { go start { prefer closer(objects(bed)) } }";
     PositionalAfterNamed = "E0207", Error, "positional argument after a named one",
         "route { go objects(chair).kth_nearest(to: start, 2) }";
     UnexpectedLambda = "E0208", Error, "lambda where no function is expected",
@@ -188,6 +188,8 @@ codes! {
         "let n = objects(bed) + 1\nroute { go start }";
     UnionMismatch = "E0215", Error, "union of a category and a set",
         "route { go (objects(bed) | sofa).nearest() }";
+    ArgumentOutOfRange = "E0216", Error, "argument out of range",
+        "route { go objects(chair).kth_nearest(0) { prefer clearance(-5m) } }";
 
     // --- E03xx: scopes and route structure ------------------------------------------------------
     MissingRoute = "E0301", Error, "missing `route` block",

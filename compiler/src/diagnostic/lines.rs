@@ -9,8 +9,14 @@ pub struct LineIndex<'a> {
 
 impl<'a> LineIndex<'a> {
     pub fn new(source: &'a str) -> Self {
+        // A line ends at LF, CRLF or a lone CR (old Mac files).
         let mut starts = vec![0];
-        starts.extend(source.match_indices('\n').map(|(i, _)| i + 1));
+        let b = source.as_bytes();
+        for (i, &c) in b.iter().enumerate() {
+            if c == b'\n' || (c == b'\r' && b.get(i + 1) != Some(&b'\n')) {
+                starts.push(i + 1);
+            }
+        }
         LineIndex { source, starts }
     }
 
@@ -56,7 +62,7 @@ impl<'a> LineIndex<'a> {
             .map_or(self.source.len(), |&e| e);
         let mut units = 0u32;
         for (i, c) in self.source[start..end].char_indices() {
-            if units >= character || c == '\n' {
+            if units >= character || c == '\n' || c == '\r' {
                 return start + i;
             }
             units += c.len_utf16() as u32;

@@ -43,8 +43,32 @@ fn to_codespan(d: &Diagnostic, source: &str) -> cs::Diagnostic<()> {
         .with_notes(notes)
 }
 
+/// The source with each lone CR (an old Mac line end) read as LF, byte for byte, so spans stay
+/// valid and the renderer sees the same lines as `LineIndex`.
+fn lines_normalised(source: &str) -> std::borrow::Cow<'_, str> {
+    let b = source.as_bytes();
+    if !b
+        .iter()
+        .enumerate()
+        .any(|(i, &c)| c == b'\r' && b.get(i + 1) != Some(&b'\n'))
+    {
+        return std::borrow::Cow::Borrowed(source);
+    }
+    let mut out = String::with_capacity(source.len());
+    let mut chars = source.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c == '\r' && chars.peek() != Some(&'\n') {
+            out.push('\n');
+        } else {
+            out.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}
+
 /// Plain text, as a terminal without colours or a snapshot test sees it.
 pub fn render_text(diags: &[Diagnostic], file_name: &str, source: &str) -> String {
+    let source = &*lines_normalised(source);
     let file = SimpleFile::new(file_name, source);
     let config = Config::default();
     let mut out = String::new();
@@ -64,6 +88,7 @@ pub fn render_text(diags: &[Diagnostic], file_name: &str, source: &str) -> Strin
 
 /// Text with ANSI colours, for a TTY.
 pub fn render_text_colored(diags: &[Diagnostic], file_name: &str, source: &str) -> String {
+    let source = &*lines_normalised(source);
     let file = SimpleFile::new(file_name, source);
     let config = Config::default();
     let mut buf = termcolor::Buffer::ansi();

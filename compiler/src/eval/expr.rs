@@ -11,6 +11,21 @@ use std::rc::Rc;
 
 impl Grounder<'_, '_> {
     pub(super) fn eval(&mut self, e: &Expr) -> Value {
+        if self.memo.active() && matches!(e.kind, ExprKind::Call { .. } | ExprKind::Method { .. }) {
+            let info = self.memo.free_info(e);
+            if let Some(key) = self.memo_key(e, &info) {
+                if let Some(v) = self.memo.get(&key) {
+                    return v;
+                }
+                let v = self.eval_uncached(e);
+                self.memo.insert(key, v.clone());
+                return v;
+            }
+        }
+        self.eval_uncached(e)
+    }
+
+    fn eval_uncached(&mut self, e: &Expr) -> Value {
         match &e.kind {
             ExprKind::Name(id) => self.name(&id.name),
             ExprKind::Int(i) => Value::Int(*i),
@@ -36,8 +51,7 @@ impl Grounder<'_, '_> {
             }
             ExprKind::Lambda { param, body } => Value::Lambda(Rc::new(Lambda {
                 param: param.name.clone(),
-                body: (**body).clone(),
-                env: self.scopes.clone(),
+                body: self.memo.lambda_body(body),
             })),
             ExprKind::Binary { op, lhs, rhs, .. } => self.binary(e, *op, lhs, rhs),
             ExprKind::Unary { op, operand, .. } => match (op, self.eval(operand)) {
@@ -220,13 +234,16 @@ impl Grounder<'_, '_> {
         }
     }
 
-    /// Applies a lambda to one element.
+    /// Applies a lambda to one element. A lambda is only ever an argument of the call that
+    /// applies it, so the scopes it was written in are still the current ones: the parameter is
+    /// pushed on top of them.
     pub(super) fn apply(&mut self, f: &Lambda, arg: PlaceVal) -> Value {
-        let mut env = f.env.clone();
-        env.push((f.param.clone(), Value::Place(arg)));
-        let saved = std::mem::replace(&mut self.scopes, env);
-        let v = self.eval(&f.body);
-        self.scopes = saved;
+        self.scopes.push((f.param.clone(), Value::Place(arg)));
+        self.memo.params.push(f.param.clone());
+        let body = f.body.clone();
+        let v = self.eval(&body);
+        self.memo.params.pop();
+        self.scopes.pop();
         v
     }
 

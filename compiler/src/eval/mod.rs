@@ -13,15 +13,17 @@
 //! the shortest traversable path; the pipeline re-grounds against each planned route until the
 //! binding is stable.
 
-mod calls;
 pub mod codes;
 mod expr;
+mod ground;
+mod memo;
 mod problem;
 mod route;
+mod shapes;
 mod value;
 
 pub use problem::{Level, Problem};
-pub use value::{PlaceVal, Pref, Region, Value};
+pub use value::{PlaceVal, Pref, Region, Value, WallFollow};
 
 use crate::check::{CheckResult, Resolution};
 use crate::ir::{Construction, RouteBinding, RouteIr};
@@ -116,6 +118,8 @@ fn ground_with(
         bindings: Vec::new(),
         travel: Vec::new(),
         resolutions,
+        memo: memo::Memo::default(),
+        reached: Vec::new(),
     };
     let ir = g.program(program, start);
     let failed = g.problems.iter().any(Problem::is_error);
@@ -173,6 +177,10 @@ pub(crate) struct Grounder<'q, 'm> {
     travel: Vec<(PlaceVal, Rc<TravelField>)>,
     /// The checker's name resolutions, for canonical category names.
     resolutions: Option<&'q HashMap<Span, Resolution>>,
+    /// Cached sub-expressions of lambda bodies (see `memo.rs` for the bound).
+    memo: memo::Memo,
+    /// Destinations of the stages evaluated so far, in route order (for `visited()`).
+    reached: Vec<PlaceVal>,
 }
 
 impl Grounder<'_, '_> {

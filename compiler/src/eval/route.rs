@@ -1,6 +1,7 @@
 //! The route block: stages, `for` groups, constraints and their scopes, into RouteIR.
 
 use super::codes;
+use super::shapes::LoopAsk;
 use super::value::{PlaceVal, Pref, Value};
 use super::{Grounder, Problem};
 use crate::ir::{
@@ -9,7 +10,7 @@ use crate::ir::{
 };
 use m2rc_grammar::ast::{self, ConstraintKind as Kind, Item, RouteItem, Scope, Span, StageItem};
 use m2rc_stdlib::grid::Cell;
-use m2rc_stdlib::query::{Target, WaypointShape, loop_waypoints};
+use m2rc_stdlib::query::{Target, WaypointShape};
 
 /// A route-level constraint waiting for the stage list, to resolve `during` names.
 struct Pending {
@@ -174,6 +175,7 @@ impl Grounder<'_, '_> {
         self.stage_target = outer_target;
         self.scopes.truncate(depth);
         if let Some(t) = target {
+            self.reached.push(t.clone());
             self.here = t;
         }
     }
@@ -292,6 +294,7 @@ impl Grounder<'_, '_> {
                 let d = |c: &Cell| (c.row as f64 - centre[0]).hypot(c.col as f64 - centre[1]);
                 d(a).total_cmp(&d(b)).then(a.cmp(b))
             });
+        let patrol = matches!(p, Pref::Patrol(..));
         Some(match p {
             Pref::Near(xs) if xs.is_empty() => return empty(self, "near"),
             Pref::Far(xs) if xs.is_empty() => return empty(self, "far"),
@@ -309,35 +312,45 @@ impl Grounder<'_, '_> {
             Pref::Clearance(d) => ConstraintKind::Clearance { distance_m: d },
             Pref::Circle(x, dir) => {
                 let room = x.room_of(self.q);
-                let wps = loop_waypoints(
-                    self.q,
-                    WaypointShape::Circle,
-                    x.target(self.q),
+                let ask = LoopAsk {
+                    name: "circle",
+                    shape: WaypointShape::Circle,
+                    around: &x,
                     room,
-                    dir == Direction::Clockwise,
                     from,
-                );
+                    direction: dir,
+                    until: None,
+                    passing: None,
+                    end: None,
+                };
+                let (dir, wps) = self.loop_shape(&c.value, ask);
                 self.shape(c, Shape::Circle, dir, &x, wps)?
             }
-            Pref::FollowWall(r, dir) | Pref::Patrol(r, dir) => {
-                let patrol = matches!(p, Pref::Patrol(..));
-                let x = PlaceVal::Room(r);
-                let mut wps = loop_waypoints(
-                    self.q,
-                    WaypointShape::Walls,
-                    Target::Room(r),
-                    Some(r),
-                    dir == Direction::Clockwise,
-                    from,
-                );
-                if patrol {
-                    // End at the doorway used to leave the room.
-                    if let Some(d) = self.route_leaving_doorway(r) {
+            Pref::FollowWall(w) | Pref::Patrol(w) => {
+                let x = PlaceVal::Room(w.room);
+                // A patrol ends at the doorway used to leave the room.
+                let end = if patrol {
+                    let door = self.route_leaving_doorway(w.room);
+                    if door.is_some() {
                         let rl = x.label(self.q);
                         self.bind(&c.value, "patrol", format!("doorway leaving {rl}"));
-                        wps.push(d);
                     }
-                }
+                    door
+                } else {
+                    None
+                };
+                let ask = LoopAsk {
+                    name: if patrol { "patrol" } else { "follow_wall" },
+                    shape: WaypointShape::Walls,
+                    around: &x,
+                    room: Some(w.room),
+                    from,
+                    direction: w.direction,
+                    until: w.until.as_ref(),
+                    passing: w.passing.as_ref(),
+                    end,
+                };
+                let (dir, wps) = self.loop_shape(&c.value, ask);
                 self.shape(
                     c,
                     if patrol {

@@ -83,18 +83,29 @@ pub enum Pref {
     Near(Vec<PlaceVal>),
     Far(Vec<PlaceVal>),
     Closer(Vec<PlaceVal>, Vec<PlaceVal>),
-    Circle(PlaceVal, Direction),
-    FollowWall(u32, Direction),
-    Patrol(u32, Direction),
+    /// A direction of `None` was left out by the writer: grounding takes the shorter way.
+    Circle(PlaceVal, Option<Direction>),
+    FollowWall(WallFollow),
+    Patrol(WallFollow),
     Clearance(f64),
 }
 
-/// A lambda, with the environment it was written in.
+/// A wall-following shape around a room.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WallFollow {
+    pub room: u32,
+    pub direction: Option<Direction>,
+    /// Only as far as this place (a doorway, say) rather than once round.
+    pub until: Option<PlaceVal>,
+    /// Go round on the side that passes this place.
+    pub passing: Option<PlaceVal>,
+}
+
+/// A lambda: its parameter and its body (shared, so applying it never copies the tree).
 #[derive(Clone, Debug)]
 pub struct Lambda {
     pub param: String,
-    pub body: Expr,
-    pub env: Vec<(String, Value)>,
+    pub body: Rc<Expr>,
 }
 
 #[derive(Clone, Debug)]

@@ -9,6 +9,7 @@
 mod complete;
 mod hover;
 mod locate;
+mod worker;
 
 use crate::diagnostic::{self, LineIndex};
 use lsp_server::{
@@ -89,6 +90,20 @@ pub fn serve(connection: &Connection, vocab: &Vocabulary) -> Result<(), LspError
 /// The message loop after initialization. Requests the server does not know get a
 /// `MethodNotFound` error, so a client never waits forever.
 pub fn main_loop(connection: &Connection, vocab: &Vocabulary) -> Result<(), LspError> {
+    let (jobs, queue) = std::sync::mpsc::channel();
+    let out = connection.sender.clone();
+    std::thread::scope(|s| {
+        s.spawn(move || worker::run(queue, |m| out.send(m).is_ok(), vocab));
+        // `jobs` is dropped when the loop returns, which ends the checker thread.
+        serve_messages(connection, vocab, jobs)
+    })
+}
+
+fn serve_messages(
+    connection: &Connection,
+    vocab: &Vocabulary,
+    jobs: std::sync::mpsc::Sender<worker::Job>,
+) -> Result<(), LspError> {
     let mut docs = Documents {
         texts: BTreeMap::new(),
     };
@@ -105,8 +120,10 @@ pub fn main_loop(connection: &Connection, vocab: &Vocabulary) -> Result<(), LspE
                 return Err(LspError::ExitWithoutShutdown);
             }
             Message::Notification(note) => {
-                if let Some(publish) = handle_notification(note, &mut docs, vocab) {
-                    send(connection, Message::Notification(publish))?;
+                if let Some(job) = handle_notification(note, &mut docs)
+                    && jobs.send(job).is_err()
+                {
+                    return Err(LspError::Disconnected);
                 }
             }
             Message::Response(_) => {}
@@ -167,18 +184,21 @@ fn cast<R: lsp_types::request::Request>(req: Request) -> Result<R::Params, Strin
         })
 }
 
-fn handle_notification(
-    note: Notification,
-    docs: &mut Documents,
-    vocab: &Vocabulary,
-) -> Option<Notification> {
+/// Updates the open documents; the check to run, if any.
+fn handle_notification(note: Notification, docs: &mut Documents) -> Option<worker::Job> {
     match note.method.as_str() {
         DidOpenTextDocument::METHOD => {
             let p: lsp::DidOpenTextDocumentParams = serde_json::from_value(note.params).ok()?;
             let doc = p.text_document;
-            docs.texts
-                .insert(doc.uri.as_str().to_string(), (doc.version, doc.text));
-            Some(publish(&doc.uri, docs, vocab))
+            docs.texts.insert(
+                doc.uri.as_str().to_string(),
+                (doc.version, doc.text.clone()),
+            );
+            Some(worker::Job::Check {
+                uri: doc.uri,
+                version: doc.version,
+                text: doc.text,
+            })
         }
         DidChangeTextDocument::METHOD => {
             let p: lsp::DidChangeTextDocumentParams = serde_json::from_value(note.params).ok()?;
@@ -186,30 +206,21 @@ fn handle_notification(
             let text = p.content_changes.into_iter().last()?.text;
             docs.texts.insert(
                 p.text_document.uri.as_str().to_string(),
-                (p.text_document.version, text),
+                (p.text_document.version, text.clone()),
             );
-            Some(publish(&p.text_document.uri, docs, vocab))
+            Some(worker::Job::Check {
+                uri: p.text_document.uri,
+                version: p.text_document.version,
+                text,
+            })
         }
         DidCloseTextDocument::METHOD => {
             let p: lsp::DidCloseTextDocumentParams = serde_json::from_value(note.params).ok()?;
             docs.texts.remove(p.text_document.uri.as_str());
-            let params = lsp::PublishDiagnosticsParams::new(p.text_document.uri, Vec::new(), None);
-            Some(Notification::new(
-                PublishDiagnostics::METHOD.to_string(),
-                params,
-            ))
+            Some(worker::Job::Close(p.text_document.uri))
         }
         _ => None,
     }
-}
-
-fn publish(uri: &lsp::Uri, docs: &Documents, vocab: &Vocabulary) -> Notification {
-    let (version, diagnostics) = match docs.texts.get(uri.as_str()) {
-        Some((version, text)) => (Some(*version), diagnostics_for(text, uri, vocab)),
-        None => (None, Vec::new()),
-    };
-    let params = lsp::PublishDiagnosticsParams::new(uri.clone(), diagnostics, version);
-    Notification::new(PublishDiagnostics::METHOD.to_string(), params)
 }
 
 /// Checks one document and converts its diagnostics to LSP form.

@@ -4,6 +4,7 @@
 //! hover text and the LLM prompt.
 
 pub mod signature;
+pub mod synonyms;
 pub mod table;
 pub mod types;
 
@@ -122,7 +123,9 @@ mod tests {
         assert!(method_for("nearest", Type::Object).is_none());
         let (b, t) = method_for("nearest", Type::Set(Elem::Room)).unwrap();
         assert_eq!(b.ret.instantiate(t), Some(Type::Room));
-        assert!(method_for("largest", Type::Set(Elem::Object)).is_none());
+        // Objects rank by footprint area, rooms by floor area: two rows, one name.
+        assert!(method_for("largest", Type::Set(Elem::Object)).is_some());
+        assert!(method_for("largest", Type::Set(Elem::Region)).is_none());
     }
 
     #[test]

@@ -7,7 +7,7 @@
 //! whose receiver accepts the actual receiver type.
 
 use super::signature::{
-    Builtin, Constant, DefaultValue, Direction, EnumWord, Metric, Param, Receiver, Requirement, Ty,
+    Builtin, Constant, DefaultValue, EnumWord, Metric, Param, Receiver, Requirement, Ty,
 };
 use super::types::{Elem, Type};
 
@@ -33,7 +33,6 @@ const ROOM_OR_ROOMS: &[Ty] = &[Ty::ROOM, Ty::SET_ROOM];
 
 const HERE: Requirement = Default(DefaultValue::Here);
 const STRAIGHT: Requirement = Default(DefaultValue::Metric(Metric::Straight));
-const CCW: Requirement = Default(DefaultValue::Direction(Direction::Counterclockwise));
 
 const fn p(name: &'static str, ty: &'static [Ty], req: Requirement) -> Param {
     Param { name, ty, req }
@@ -152,6 +151,38 @@ pub static BUILTINS: &[Builtin] = &[
         Ty::SetT,
         "The same elements ordered by ascending key.",
         "rooms(bedroom).sorted_by(r => r.area())",
+    ),
+    method(
+        SET_T,
+        "sorted_by_descending",
+        KEY,
+        Ty::SetT,
+        "The same elements ordered by descending key (largest first).",
+        "objects(painting).sorted_by_descending(p => p.footprint_area())",
+    ),
+    method(
+        SET_T,
+        "nearest_first",
+        RANK_PARAMS,
+        Ty::SetT,
+        "The same elements ordered from nearest to farthest from `to` (a `for` visits them in this order).",
+        "objects(chair).nearest_first(to: objects(bed).only())",
+    ),
+    method(
+        SET_T,
+        "farthest_first",
+        RANK_PARAMS,
+        Ty::SetT,
+        "The same elements ordered from farthest to nearest from `to`, without negating a distance.",
+        "objects(lamp).farthest_first(by: travel)",
+    ),
+    method(
+        SET_T,
+        "reversed",
+        NONE,
+        Ty::SetT,
+        "The same elements in the opposite order.",
+        "rooms(bedroom).sorted_by(r => r.area()).reversed()",
     ),
     method(
         SET_OBJECT,
@@ -348,6 +379,38 @@ pub static BUILTINS: &[Builtin] = &[
         "r => r.area()",
     ),
     method(
+        SINGLE_OBJECT,
+        "footprint_area",
+        NONE,
+        Ty::Is(Type::Number),
+        "The area the object covers on the floor, in square metres.",
+        "objects(painting).max_by(p => p.footprint_area())",
+    ),
+    method(
+        SINGLE_OBJECT,
+        "length",
+        NONE,
+        Ty::Is(Type::Distance),
+        "The longer side of the object's footprint.",
+        "objects(sofa).max_by(s => s.length())",
+    ),
+    method(
+        SINGLE_OBJECT,
+        "width",
+        NONE,
+        Ty::Is(Type::Distance),
+        "The shorter side of the object's footprint.",
+        "objects(shelving_unit).min_by(s => s.width())",
+    ),
+    method(
+        SINGLE_OBJECT,
+        "squareness",
+        NONE,
+        Ty::Is(Type::Number),
+        "Width over length of the footprint: 1 for a square, near 0 for a long thin object.",
+        "objects(dining_table).max_by(t => t.squareness())",
+    ),
+    method(
         SINGLE_PLACE,
         "room",
         NONE,
@@ -389,6 +452,14 @@ pub static BUILTINS: &[Builtin] = &[
         "objects(chair).kth_farthest(2)",
     ),
     method(
+        SET_T,
+        "kth",
+        &[p("k", INT, Required)],
+        Ty::T,
+        "The k-th element in the set's order (k = 1 is the first): the k-th of a sorted set.",
+        "objects(chair).sorted_by(c => c.footprint_area()).kth(2)",
+    ),
+    method(
         SET_ROOM,
         "largest",
         NONE,
@@ -403,6 +474,22 @@ pub static BUILTINS: &[Builtin] = &[
         Ty::ROOM,
         "The room with the smallest floor area.",
         "rooms(bathroom).smallest()",
+    ),
+    method(
+        SET_OBJECT,
+        "largest",
+        NONE,
+        Ty::OBJECT,
+        "The object with the largest footprint area.",
+        "objects(painting).largest()",
+    ),
+    method(
+        SET_OBJECT,
+        "smallest",
+        NONE,
+        Ty::OBJECT,
+        "The object with the smallest footprint area (the smaller of two).",
+        "objects(dining_table).smallest()",
     ),
     method(
         SET_T,
@@ -481,8 +568,29 @@ pub static BUILTINS: &[Builtin] = &[
         "center",
         &[p("of", SET_PLACE_OR_PLACE, Required)],
         REGION,
-        "The centre point of a set of places.",
+        "The centre point of a place or of a set of places.",
         "center(objects(potato))",
+    ),
+    free(
+        "area_enclosed",
+        &[p("places", SET_PLACE_OR_PLACE, Required)],
+        REGION,
+        "The area enclosed by three or more places: the convex hull of their footprints, outside the footprints.",
+        "area_enclosed([sofa, tv_stand, coffee_table])",
+    ),
+    free(
+        "house_corners",
+        NONE,
+        SET_REGION,
+        "The corners of the whole house outline, each as the floor within the corner radius.",
+        "house_corners().farthest()",
+    ),
+    free(
+        "house_center",
+        NONE,
+        REGION,
+        "The free floor nearest the centre of the whole house.",
+        "house_center()",
     ),
     // --- Route-dependent places -----------------------------------------------------------------
     free(
@@ -513,6 +621,20 @@ pub static BUILTINS: &[Builtin] = &[
         "The first of the rooms that the route enters.",
         "first_entered(rooms(bedroom))",
     ),
+    free(
+        "kth_entered",
+        &[p("rooms", SET_ROOM, Required), p("k", INT, Required)],
+        Ty::ROOM,
+        "The k-th distinct room of the set that the route enters (k = 1 is `first_entered`).",
+        "kth_entered(rooms(bedroom), 2)",
+    ),
+    free(
+        "visited",
+        NONE,
+        Ty::SET_ROOM,
+        "The rooms the route has been in before the current stage starts, the start room included.",
+        "rooms(bathroom).except(visited())",
+    ),
     // --- Preferences ----------------------------------------------------------------------------
     free(
         "near",
@@ -537,29 +659,31 @@ pub static BUILTINS: &[Builtin] = &[
     ),
     free(
         "circle",
-        &[p("x", PLACE, Required), p("direction", DIRECTION, CCW)],
+        &[p("x", PLACE, Required), p("direction", DIRECTION, Optional)],
         PREF,
-        "Circle once around the place.",
+        "Circle once around the place; without a direction either way is taken (the binding says which).",
         "prefer circle(table, counterclockwise)",
     ),
     free(
         "follow_wall",
         &[
             p("room", ROOM, Required),
-            p("direction", DIRECTION, Required),
+            p("direction", DIRECTION, Optional),
+            p("until", PLACE, Optional),
+            p("passing", PLACE, Optional),
         ],
         PREF,
-        "Follow the walls of the room.",
-        "prefer follow_wall(start.room(), clockwise)",
+        "Walk along the room's walls once round, or only as far as `until`; without a direction, on the side passing `passing`, else the shorter way (the binding says which).",
+        "prefer follow_wall(start.room(), until: doorway_leaving(start.room()), passing: sofa)",
     ),
     free(
         "patrol",
         &[
             p("room", ROOM, Required),
-            p("direction", DIRECTION, Required),
+            p("direction", DIRECTION, Optional),
         ],
         PREF,
-        "Loop along the room's walls, ending at the doorway used to leave it.",
+        "A full loop along the room's walls that then ends at the doorway used to leave it; without a direction, the shorter way.",
         "prefer patrol(start.room(), counterclockwise)",
     ),
     free(
@@ -571,7 +695,7 @@ pub static BUILTINS: &[Builtin] = &[
     ),
 ];
 
-const SET_PLACE_OR_PLACE: &[Ty] = &[Ty::SET_PLACE];
+const SET_PLACE_OR_PLACE: &[Ty] = &[Ty::PLACE, Ty::SET_PLACE];
 
 /// Named values usable without a call.
 pub static CONSTANTS: &[Constant] = &[

@@ -143,18 +143,24 @@ impl MapQuery<'_> {
     /// `between_margin_m` so that even a narrow gap gives a usable area, minus the two places
     /// themselves. Sorted.
     pub fn corridor(&self, a: Target, b: Target) -> Vec<Cell> {
-        self.hull_cells(a, b, self.thresholds.between_margin_m / self.res())
+        self.hull_cells(&[a, b], self.thresholds.between_margin_m / self.res())
     }
 
     /// The convex hull of two places, without widening, minus the places (the `between` test).
     pub fn hull_between(&self, a: Target, b: Target) -> Vec<Cell> {
-        self.hull_cells(a, b, 0.0)
+        self.hull_cells(&[a, b], 0.0)
     }
 
-    fn hull_cells(&self, a: Target, b: Target, margin: f64) -> Vec<Cell> {
-        let (ca, cb) = (self.cells(a), self.cells(b));
+    /// The area enclosed by several places (`area_enclosed`): the convex hull of all their
+    /// footprints minus the footprints themselves. Sorted; empty when the hull is degenerate.
+    pub fn enclosed(&self, places: &[Target]) -> Vec<Cell> {
+        self.hull_cells(places, 0.0)
+    }
+
+    fn hull_cells(&self, places: &[Target], margin: f64) -> Vec<Cell> {
+        let own: Vec<&[Cell]> = places.iter().map(|t| self.cells(*t)).collect();
         let mut pts: Vec<[f64; 2]> = Vec::new();
-        for c in self.outline(a).iter().chain(self.outline(b)) {
+        for c in places.iter().flat_map(|t| self.outline(*t)) {
             let (r, k) = (c.row as f64, c.col as f64);
             pts.extend([
                 [r - 0.5, k - 0.5],
@@ -179,7 +185,7 @@ impl MapQuery<'_> {
                 ((c0 - margin).floor() as i64).max(0)..=((c1 + margin).ceil() as i64).min(n - 1)
             {
                 let cell = Cell::new(row as u32, col as u32);
-                if ca.binary_search(&cell).is_ok() || cb.binary_search(&cell).is_ok() {
+                if own.iter().any(|cs| cs.binary_search(&cell).is_ok()) {
                     continue;
                 }
                 if hull_distance(&hull, [row as f64, col as f64]) <= margin {

@@ -1,0 +1,64 @@
+//! Preferences: soft terms of the route's cost.
+
+use super::{Call, GroundFn};
+use crate::eval::Grounder;
+use crate::eval::value::{PlaceVal, Pref, Value, WallFollow};
+use m2rc_stdlib::builtins::Builtin;
+
+pub(super) fn lookup(row: &Builtin) -> Option<GroundFn> {
+    if row.is_method() {
+        return None;
+    }
+    match row.name {
+        "near" | "far" => Some(near_far),
+        "closer" => Some(closer),
+        "circle" | "follow_wall" | "patrol" => Some(path_shape),
+        "clearance" => Some(clearance),
+        _ => None,
+    }
+}
+
+fn near_far(_: &mut Grounder, c: Call) -> Value {
+    let xs = c.places(0);
+    Value::Pref(if c.name() == "near" {
+        Pref::Near(xs)
+    } else {
+        Pref::Far(xs)
+    })
+}
+
+fn closer(_: &mut Grounder, c: Call) -> Value {
+    Value::Pref(Pref::Closer(c.places(0), c.places(1)))
+}
+
+fn path_shape(g: &mut Grounder, c: Call) -> Value {
+    let dir = match c.arg(1) {
+        Some(Value::Direction(d)) => Some(d),
+        _ => None,
+    };
+    let place = |i: usize| match c.arg(i) {
+        Some(Value::Place(p)) => Some(p),
+        _ => None,
+    };
+    match (c.name(), c.arg(0)) {
+        ("circle", Some(Value::Place(p))) => Value::Pref(Pref::Circle(p, dir)),
+        (name, Some(Value::Place(PlaceVal::Room(room)))) => {
+            let w = WallFollow {
+                room,
+                direction: dir,
+                until: place(2),
+                passing: place(3),
+            };
+            Value::Pref(if name == "patrol" {
+                Pref::Patrol(w)
+            } else {
+                Pref::FollowWall(w)
+            })
+        }
+        _ => g.unsupported(c.e),
+    }
+}
+
+fn clearance(_: &mut Grounder, c: Call) -> Value {
+    Value::Pref(Pref::Clearance(c.number(0).unwrap_or(0.5)))
+}
