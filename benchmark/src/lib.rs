@@ -1,6 +1,6 @@
-//! placeholder
-pub mod atomic;
+//! The Map2Route benchmark: episodes, the reference metrics, suite generation, methods, the resumable runner, reports and ablations.
 pub mod ablate;
+pub mod atomic;
 pub mod episode;
 pub mod episode_check;
 pub mod limits;
