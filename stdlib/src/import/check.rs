@@ -145,7 +145,8 @@ fn nearest_free(map: &SemanticMap, start: Cell) -> Option<Cell> {
     let (r0, c0) = (start.row as i64, start.col as i64);
     let mut fallback: Option<Cell> = None;
     for ring in 1..n {
-        let (mut own, mut any): (Option<(i64, Cell)>, Option<(i64, Cell)>) = (None, None);
+        let mut own: Option<(i64, Cell)> = None;
+        let mut any: Option<(i64, Cell)> = None;
         for y in (r0 - ring).max(0)..=(r0 + ring).min(n - 1) {
             for x in (c0 - ring).max(0)..=(c0 + ring).min(n - 1) {
                 if (y - r0).abs() != ring && (x - c0).abs() != ring {
