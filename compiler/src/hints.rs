@@ -84,7 +84,8 @@ fn route_items(items: &[RouteItem], out: &mut Vec<Span>) {
                 expr(&f.iter, out);
                 route_items(&f.body, out);
             }
-            RouteItem::Error(_) => {}
+            // The formula is a string the LTL checker reads on its own.
+            RouteItem::Ltl(_) | RouteItem::Error(_) => {}
         }
     }
 }

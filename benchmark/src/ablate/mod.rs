@@ -7,7 +7,7 @@
 pub mod variants;
 
 use crate::methods::Method;
-use crate::report::{MethodRun, load_run, table};
+use crate::report::{LoadOptions, MethodRun, load_runs_with, table};
 use crate::runner::{RunError, RunOptions, Shard, run, write_atomic};
 use m2rc_planner::{CostProfile, PlannerKind};
 use std::path::{Path, PathBuf};
@@ -169,7 +169,13 @@ pub fn run_ablation(ab: Ablation, opts: &AblateOptions) -> Result<AblationResult
                 progress: opts.progress,
             },
         )?;
-        runs.push(load_run(&vdir)?);
+        // A shard of an ablation holds only its share of the episodes.
+        runs.extend(load_runs_with(
+            std::slice::from_ref(&vdir),
+            LoadOptions {
+                allow_incomplete: opts.shard.is_some(),
+            },
+        )?);
     }
     let t = table::table(&runs);
     let markdown = section(ab, &t, opts);

@@ -50,6 +50,7 @@ impl Method for GoldVariant {
                 trajectory: c.route.trajectory,
                 program: Some(gold.to_string()),
                 notes: self.note.map(String::from).into_iter().collect(),
+                ..Prediction::default()
             }),
             Err(diags) => {
                 let first = diags.iter().find(|d| d.is_error()).or(diags.first());

@@ -139,6 +139,7 @@ pub fn merge(
         fingerprint: Some(first.fingerprint.clone()),
         expected,
         split_episodes: first.manifest.split_episodes,
+        method_config: first.manifest.method_config.clone(),
     };
 
     let _lock = RunLock::acquire(out)?;

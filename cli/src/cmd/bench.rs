@@ -360,7 +360,7 @@ impl Method for SharedMethod {
         self.0.name()
     }
 
-    fn config(&self) -> Option<Value> {
+    fn config(&self) -> Value {
         self.0.config()
     }
 
