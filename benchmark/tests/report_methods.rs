@@ -149,8 +149,16 @@ fn oracle_is_perfect_and_shortest_loses_on_preferences() {
             }
         }
         assert!(total >= 2, "{kind}: only {total} constraints in the suite");
+        // Near preferences are placed geometrically (suite v2), not by planning with the
+        // reference cost model the oracle uses, so the oracle wins a smaller share of them: a
+        // majority is required there, two thirds elsewhere.
+        let (num, den) = if kind == "near_preference" {
+            (1, 2)
+        } else {
+            (2, 3)
+        };
         assert!(
-            wins * 3 >= total * 2,
+            wins * den >= total * num,
             "{kind}: oracle better on only {wins} of {total}"
         );
     }

@@ -28,8 +28,10 @@ pub struct LlmArgs {
     /// Model name sent in each request.
     #[arg(long, env = "M2R_LLM_MODEL", default_value = "default")]
     pub llm_model: String,
+    /// Sampling temperature sent to the model (0 = greedy, the reproducible default).
     #[arg(long, default_value_t = 0.0)]
     pub llm_temperature: f64,
+    /// Most tokens the model may write in one reply (a longer reply is recorded as cut off).
     #[arg(long, default_value_t = 2048)]
     pub llm_max_tokens: u32,
     /// Seconds before a request is abandoned (and retried).

@@ -23,6 +23,7 @@ pub enum Which {
 
 #[derive(Args)]
 pub struct AblateArgs {
+    /// Which ablation to run (`all` runs every one into one report).
     #[arg(value_enum)]
     pub which: Which,
     /// Suite directory (holds suite.json).

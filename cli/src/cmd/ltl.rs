@@ -21,6 +21,7 @@ pub enum LtlEmit {
 pub struct LtlArgs {
     /// The formula, e.g. `F(a & F b) & G !c`.
     pub formula: String,
+    /// Output format: the automaton as JSON (`dfa`), HOA, Graphviz DOT, or the formula (`ltl`).
     #[arg(long, value_enum, default_value_t = LtlEmit::Dfa)]
     pub emit: LtlEmit,
     /// Atom order (comma-separated); default: first occurrence in the formula.

@@ -23,6 +23,7 @@ pub struct PromptArgs {
     /// Show the repair request for this program instead of the first request.
     #[arg(long)]
     pub repair_of: Option<PathBuf>,
+    /// `text` shows the messages for reading; `json` prints them exactly as they are sent.
     #[arg(long, value_enum, default_value_t = PromptFormat::Text)]
     pub format: PromptFormat,
     #[command(flatten)]

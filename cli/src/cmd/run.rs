@@ -27,6 +27,7 @@ pub struct RunArgs {
     /// Where to write the route (or the program with `--emit m2r`, the RouteIR with `--emit ir`).
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
+    /// What `-o` receives: the route, the program the model wrote (`m2r`), or the RouteIR (`ir`).
     #[arg(long, value_enum, default_value_t = RunEmit::Route)]
     pub emit: RunEmit,
     /// Draw the route over the map into this PNG.
