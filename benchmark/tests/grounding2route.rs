@@ -238,7 +238,20 @@ fn mock_server_cache_resume_batch_and_simulated() {
     m.store.batch.as_ref().unwrap().finish().unwrap();
     assert_eq!((s.written, s.pending), (0, n));
     assert_eq!(report::count_pending(&batch_out), n);
-    let runs = load_runs(std::slice::from_ref(&batch_out)).unwrap();
+    // A run still waiting for replies is refused by a strict report, and says why.
+    let refused = load_runs(std::slice::from_ref(&batch_out)).err().unwrap();
+    assert!(
+        refused
+            .to_string()
+            .contains(&format!("{n} waiting for a model reply"))
+    );
+    let runs = report::load_runs_with(
+        std::slice::from_ref(&batch_out),
+        report::LoadOptions {
+            allow_incomplete: true,
+        },
+    )
+    .unwrap();
     assert!(report::model::markdown(&runs, &Default::default()).contains(&format!("| {n} |")));
     let mut lines = String::new();
     for l in std::fs::read_to_string(&batch).unwrap().lines() {

@@ -114,6 +114,58 @@ fn dash_reads_standard_input_wherever_a_file_is_read() {
     .unwrap();
     m2rc_in(&["compile", "p.m2r", "--map", "-"], tmp.path(), &map).expect(0);
     m2rc_in(&["check", "p.m2r", "--map", "-"], tmp.path(), &map).expect(0);
+    // Houses on standard input, plain or gzip, give the same episodes as the file itself.
+    let house = fixtures().join("procthor10k_uniform_hard_val_150_149.json");
+    let assets = fixtures().join("../assets/asset-database.json");
+    let build = |houses: &str, out: &str, stdin: &[u8]| {
+        let args = [
+            "suite",
+            "build",
+            "--houses",
+            houses,
+            "--assets",
+            assets.to_str().unwrap(),
+            "--scenes",
+            "1",
+            "--dev-scenes",
+            "0",
+            "--episodes-per-scene",
+            "2",
+            "--out",
+            out,
+        ];
+        m2rc_in(&args, tmp.path(), stdin).expect(0);
+    };
+    let bytes = std::fs::read(&house).unwrap();
+    build(house.to_str().unwrap(), "from-file", b"");
+    build("-", "from-stdin", &bytes);
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(&mut gz, &bytes).unwrap();
+    build("-", "from-gzip", &gz.finish().unwrap());
+    let instructions = |dir: &str| {
+        let root = tmp.path().join(dir).join("instructions");
+        let mut files = Vec::new();
+        for scene in std::fs::read_dir(&root).unwrap() {
+            let d = scene.unwrap().path().join("instruction_files");
+            for f in std::fs::read_dir(d).unwrap() {
+                files.push(std::fs::read(f.unwrap().path()).unwrap());
+            }
+        }
+        files.sort();
+        files
+    };
+    assert!(!instructions("from-file").is_empty());
+    assert_eq!(instructions("from-file"), instructions("from-stdin"));
+    assert_eq!(instructions("from-file"), instructions("from-gzip"));
+    let manifest = read_json(&tmp.path().join("from-stdin/suite.json"));
+    assert_eq!(manifest["houses"], "<stdin>", "{manifest}");
+    let r = m2rc_in(
+        &["suite", "build", "--houses", "-", "--out", "bad"],
+        tmp.path(),
+        b"{\"rooms\": 3}",
+    );
+    assert!(matches!(r.code, Some(1 | 2)), "{:?}", r.code);
+    assert!(r.stderr.contains("<stdin>: field `rooms`"), "{}", r.stderr);
     // Only one `-` per command.
     let r = m2rc_in(&["compile", "-", "--map", "-"], tmp.path(), GOOD.as_bytes()).expect(2);
     assert!(

@@ -10,7 +10,7 @@
 
 use crate::eval::codes;
 use crate::eval::{Level, Problem};
-use crate::ir::{ConstraintKind, Place, ROUTE_IR_VERSION, RouteIr, StageScope};
+use crate::ir::{ConstraintKind, Place, PlaceKind, ROUTE_IR_VERSION, RouteIr, StageScope};
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::query::{MapQuery, Target, TravelField};
 use std::collections::BTreeSet;
@@ -179,7 +179,10 @@ pub fn verify(ir: &RouteIr, q: &MapQuery) -> Vec<Problem> {
                 ));
                 continue;
             }
-            let band = q.band(Target::Cells(place.cells.cells()));
+            let mut band = q.band(Target::Cells(place.cells.cells()));
+            if band.is_empty() {
+                band = object_fallback(place, q).into_iter().collect();
+            }
             if band.is_empty() {
                 out.push(err(
                     codes::TARGET_UNREACHABLE,
@@ -209,6 +212,29 @@ pub fn verify(ir: &RouteIr, q: &MapQuery) -> Vec<Problem> {
     }
     out.sort_by_key(|p| (p.level != Level::Error, p.span.start, p.code));
     out
+}
+
+/// The planner's goal for an object with no free cell near it, as the reference plans it (method
+/// notes §4.2): the traversable cell of the object's room nearest the object's centre (ties: lower
+/// row, then lower column). Without it, an object on a bed or in a shelf that the reference
+/// reaches would be rejected here.
+fn object_fallback(place: &Place, q: &MapQuery) -> Option<Cell> {
+    let PlaceKind::Object { id, room, .. } = &place.kind else {
+        return None;
+    };
+    let room = (*room)?;
+    let center = q.map().object(*id).map(|o| o.center)?;
+    q.room_cells(room)
+        .iter()
+        .copied()
+        .filter(|&c| q.is_traversable(c))
+        .min_by(|a, b| {
+            let d = |c: Cell| {
+                let (dr, dc) = (c.row as f64 - center[0], c.col as f64 - center[1]);
+                dr * dr + dc * dc
+            };
+            d(*a).total_cmp(&d(*b)).then_with(|| a.cmp(b))
+        })
 }
 
 fn places(k: &ConstraintKind) -> Vec<&Place> {

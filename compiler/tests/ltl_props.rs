@@ -81,7 +81,6 @@ proptest! {
     }
 
     #[test]
-    #[ignore = "overflows the test thread's stack on some generated formulas (issue 11 note); run with --ignored"]
     fn json_guards_are_formulas_that_agree_with_the_automaton(f in formula()) {
         let d = Dfa::build(&f, &names(), true).unwrap();
         let json = export::to_json(&d);

@@ -11,8 +11,8 @@
 //! current search, so starting a search costs nothing proportional to the grid.
 
 use crate::layout::{Layout, NO_HEADING, turn_table};
+use crate::open_list::OpenEntry;
 use m2rc_stdlib::field::LazySquaredDistances;
-use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 /// The grid a search runs on, in the padded layout.
@@ -93,34 +93,6 @@ pub enum Outcome {
     },
 }
 
-#[derive(Clone, Copy)]
-struct Entry {
-    f: f64,
-    seq: u64,
-    idx: u32,
-}
-
-impl PartialEq for Entry {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Entry {
-    /// Reversed so that `BinaryHeap` (a max-heap) pops the smallest `(f, seq)` first.
-    fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .f
-            .total_cmp(&self.f)
-            .then_with(|| other.seq.cmp(&self.seq))
-    }
-}
-
 /// Reusable A* search state.
 pub struct AStar {
     g: Vec<f64>,
@@ -129,7 +101,7 @@ pub struct AStar {
     /// `tag == gen`: open (g valid); `tag == gen + 1`: closed.
     tag: Vec<u32>,
     gen_: u32,
-    heap: BinaryHeap<Entry>,
+    heap: BinaryHeap<OpenEntry>,
     turn: [[f64; 8]; 9],
 }
 
@@ -201,16 +173,16 @@ impl AStar {
         self.tag[start] = open;
         self.parent[start] = start as u32;
         self.heading[start] = q.initial_heading;
-        self.heap.push(Entry {
-            f: h(start),
+        self.heap.push(OpenEntry {
+            key: h(start),
             seq,
-            idx: start as u32,
+            state: start as u32,
         });
         seq += 1;
         let mut expansions: u64 = 0;
         let trav = space.traversable;
         let allowed = space.allowed;
-        while let Some(Entry { idx, .. }) = self.heap.pop() {
+        while let Some(OpenEntry { state: idx, .. }) = self.heap.pop() {
             let u = idx as usize;
             if self.tag[u] == closed {
                 continue;
@@ -255,10 +227,10 @@ impl AStar {
                     self.g[v] = ng;
                     self.parent[v] = u as u32;
                     self.heading[v] = k as u8;
-                    self.heap.push(Entry {
-                        f: ng + h(v),
+                    self.heap.push(OpenEntry {
+                        key: ng + h(v),
                         seq,
-                        idx: v as u32,
+                        state: v as u32,
                     });
                     seq += 1;
                 }

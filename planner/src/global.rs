@@ -18,43 +18,18 @@
 use crate::astar::AStar;
 use crate::compile::{self, CompiledSegment};
 use crate::layout::{MOVES, NO_HEADING, turn_table};
+use crate::open_list::OpenEntry;
 use crate::problem::PlanProblem;
 use crate::route::{
     PlanStatus, PlannedRoute, PlannedSegment, PlannedStage, append_path, path_length_m,
 };
 use crate::sequential::{self, SegmentCache};
 use m2rc_stdlib::grid::Cell;
-use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 
 const SOURCE: u8 = 255;
 const SQRT2: f64 = std::f64::consts::SQRT_2;
 const STEP: [f64; 8] = [1.0, 1.0, 1.0, 1.0, SQRT2, SQRT2, SQRT2, SQRT2];
-
-#[derive(Clone, Copy)]
-struct Entry {
-    cost: f64,
-    seq: u64,
-    state: u32,
-}
-impl PartialEq for Entry {
-    fn eq(&self, o: &Self) -> bool {
-        self.cmp(o) == Ordering::Equal
-    }
-}
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Entry {
-    fn cmp(&self, o: &Self) -> Ordering {
-        o.cost
-            .total_cmp(&self.cost)
-            .then_with(|| o.seq.cmp(&self.seq))
-    }
-}
 
 /// One layer of the search: which segment and stage it plans, its state width, and how to walk back.
 struct Layer {
@@ -216,8 +191,8 @@ fn search(
                 dist[state] = cost;
                 layer.from.insert(state, prev);
                 layer.source_cost.insert(state, cost);
-                heap.push(Entry {
-                    cost,
+                heap.push(OpenEntry {
+                    key: cost,
                     seq,
                     state: state as u32,
                 });
@@ -225,7 +200,7 @@ fn search(
             }
         }
         arrivals.clear();
-        while let Some(Entry { state, .. }) = heap.pop() {
+        while let Some(OpenEntry { state, .. }) = heap.pop() {
             let s = state as usize;
             if tag[s] == closed {
                 continue;
@@ -275,8 +250,8 @@ fn search(
                     tag[t] = open;
                     dist[t] = c;
                     layer.pred[t] = if width == 9 { h as u8 } else { m as u8 };
-                    heap.push(Entry {
-                        cost: c,
+                    heap.push(OpenEntry {
+                        key: c,
                         seq,
                         state: t as u32,
                     });

@@ -16,6 +16,7 @@ pub mod global;
 pub mod goal;
 pub mod layout;
 pub mod lower;
+mod open_list;
 pub mod problem;
 pub mod product;
 pub mod product_lower;

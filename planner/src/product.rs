@@ -17,10 +17,10 @@
 //! which were dropped).
 
 use crate::layout::{Layout, MOVES};
+use crate::open_list::OpenEntry;
 use m2rc_compiler::ltl::Dfa;
 use m2rc_stdlib::field::LazySquaredDistances;
 use m2rc_stdlib::grid::Cell;
-use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 
 const SQRT2: f64 = std::f64::consts::SQRT_2;
@@ -60,29 +60,6 @@ pub enum ProductFailure {
     Budget { expansions: u64 },
     /// Masks of the wrong size or count, or a product too large to index.
     Invalid(String),
-}
-
-#[derive(Clone, Copy)]
-struct Entry {
-    f: f64,
-    seq: u64,
-    state: u32,
-}
-impl PartialEq for Entry {
-    fn eq(&self, o: &Self) -> bool {
-        self.cmp(o) == Ordering::Equal
-    }
-}
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Entry {
-    fn cmp(&self, o: &Self) -> Ordering {
-        o.f.total_cmp(&self.f).then_with(|| o.seq.cmp(&self.seq))
-    }
 }
 
 /// The cheapest accepting route of `p`.
@@ -180,14 +157,14 @@ pub fn search(p: &ProductProblem) -> Result<ProductRoute, ProductFailure> {
     let mut seq = 0u64;
     let h0 = heur(q0, start);
     if h0.is_finite() {
-        heap.push(Entry {
-            f: h0,
+        heap.push(OpenEntry {
+            key: h0,
             seq,
             state: s0 as u32,
         });
     }
     let mut expansions = 0u64;
-    while let Some(Entry { state, .. }) = heap.pop() {
+    while let Some(OpenEntry { state, .. }) = heap.pop() {
         let s = state as usize;
         if closed[s] {
             continue;
@@ -232,8 +209,8 @@ pub fn search(p: &ProductProblem) -> Result<ProductRoute, ProductFailure> {
                 dist[t] = c;
                 pred[t] = s as u32;
                 seq += 1;
-                heap.push(Entry {
-                    f: c + hv,
+                heap.push(OpenEntry {
+                    key: c + hv,
                     seq,
                     state: t as u32,
                 });

@@ -24,7 +24,19 @@ pub struct House {
 
 /// Reads every house under `path`: a `.jsonl.gz` / `.jsonl` file (one house per line), a `.json`
 /// file (one house), or a directory of such files (sorted by name).
+///
+/// `-` reads standard input: gzip-compressed or plain, one house (a JSON document) or JSON lines.
 pub fn read_houses(path: &Path) -> Result<Vec<House>, SuiteError> {
+    if path == Path::new("-") {
+        let mut bytes = Vec::new();
+        std::io::stdin()
+            .lock()
+            .read_to_end(&mut bytes)
+            .map_err(|e| SuiteError::io(path, e))?;
+        let mut houses = Vec::new();
+        read_bytes(STDIN_NAME, &bytes, &mut houses)?;
+        return non_empty(houses, path);
+    }
     let files: Vec<PathBuf> = if path.is_dir() {
         let mut files: Vec<PathBuf> = std::fs::read_dir(path)
             .map_err(|e| SuiteError::io(path, e))?
@@ -43,13 +55,44 @@ pub fn read_houses(path: &Path) -> Result<Vec<House>, SuiteError> {
     for file in files {
         read_file(&file, &mut houses)?;
     }
+    non_empty(houses, path)
+}
+
+/// How houses read from standard input are named in messages and the manifest.
+pub const STDIN_NAME: &str = "<stdin>";
+
+fn non_empty(houses: Vec<House>, path: &Path) -> Result<Vec<House>, SuiteError> {
     if houses.is_empty() {
         return Err(SuiteError::Input(format!(
             "{}: no houses found",
-            path.display()
+            if path == Path::new("-") {
+                STDIN_NAME.into()
+            } else {
+                path.display().to_string()
+            }
         )));
     }
     Ok(houses)
+}
+
+/// Houses from a stream whose kind is not given by a file name: gzip by its magic bytes, then one
+/// JSON document if the whole text is one, else JSON lines.
+fn read_bytes(name: &str, bytes: &[u8], out: &mut Vec<House>) -> Result<(), SuiteError> {
+    let stdin = Path::new("-");
+    let text = if bytes.starts_with(&[0x1f, 0x8b]) {
+        let mut text = String::new();
+        GzDecoder::new(bytes)
+            .read_to_string(&mut text)
+            .map_err(|e| SuiteError::io(stdin, e))?;
+        text
+    } else {
+        String::from_utf8(bytes.to_vec())
+            .map_err(|e| SuiteError::Input(format!("{name}: not UTF-8 text: {e}")))?
+    };
+    if let Ok(json) = serde_json::from_str::<Value>(&text) {
+        return push(out, name.to_string(), json);
+    }
+    read_lines(name, std::io::Cursor::new(text), stdin, out)
 }
 
 fn read_file(file: &Path, out: &mut Vec<House>) -> Result<(), SuiteError> {
@@ -70,6 +113,15 @@ fn read_file(file: &Path, out: &mut Vec<House>) -> Result<(), SuiteError> {
     } else {
         Box::new(BufReader::new(raw))
     };
+    read_lines(&name, reader, file, out)
+}
+
+fn read_lines(
+    name: &str,
+    reader: impl BufRead,
+    file: &Path,
+    out: &mut Vec<House>,
+) -> Result<(), SuiteError> {
     // Houses are named `<file>#<i>` with `i` the 0-based index among the file's non-empty
     // lines, exactly what `m2rc map import <file> --index i` (or `<file>#i`) takes.
     let mut index = 0usize;

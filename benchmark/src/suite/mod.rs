@@ -212,7 +212,11 @@ pub fn build_suite(
     let manifest = SuiteManifest {
         format: "m2rc-suite/1".into(),
         config: config.clone(),
-        houses: houses_path.display().to_string(),
+        houses: if houses_path == Path::new("-") {
+            houses::STDIN_NAME.to_string()
+        } else {
+            houses_path.display().to_string()
+        },
         scenes,
         episodes,
     };

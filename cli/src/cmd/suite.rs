@@ -21,7 +21,8 @@ pub enum SuiteCommand {
 
 #[derive(Args)]
 pub struct BuildArgs {
-    /// ProcTHOR houses: a .jsonl.gz / .jsonl / .json file or a directory of them.
+    /// ProcTHOR houses: a .jsonl.gz / .jsonl / .json file, a directory of them, or `-` for
+    /// standard input (gzip or plain; give `--assets` then).
     #[arg(long)]
     pub houses: PathBuf,
     /// Evaluation scenes.
@@ -79,7 +80,12 @@ pub fn run(command: SuiteCommand) -> Result<ExitCode> {
     }
 }
 
+/// `assets/asset-database.json` beside the houses folder; none for houses read from standard
+/// input (give `--assets`).
 fn default_assets(houses: &Path) -> Option<PathBuf> {
+    if houses == Path::new("-") {
+        return None;
+    }
     let dir = if houses.is_dir() {
         houses.to_path_buf()
     } else {
@@ -127,7 +133,11 @@ fn build(a: BuildArgs) -> Result<ExitCode> {
         config.scenes,
         config.dev_scenes,
         config.episodes_per_scene,
-        a.houses.display(),
+        if a.houses == Path::new("-") {
+            "standard input".to_string()
+        } else {
+            a.houses.display().to_string()
+        },
         assets_path
             .map(|p| format!(" (assets: {})", p.display()))
             .unwrap_or_default()

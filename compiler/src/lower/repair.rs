@@ -284,6 +284,10 @@ fn verify_with_fixes<V: Verifier>(
     (verdict, fixes, src)
 }
 
+/// What the previous round left for the repair prompt: the program as checked with its
+/// diagnostics, or the reason no program could be taken from the reply.
+type PreviousOutcome = Result<(String, Vec<Diagnostic>), Extracted>;
+
 /// Runs one episode: the first prompt, then up to `opts.rounds` repairs.
 ///
 /// `episode` prefixes every request's `custom_id` (`<episode>/round<k>`). Deterministic for a
@@ -296,8 +300,7 @@ pub fn run_episode<M: ChatModel + ?Sized, V: Verifier>(
     opts: &RepairOptions,
 ) -> Trace<V::Output> {
     let mut attempts: Vec<Attempt> = Vec::new();
-    // (assistant text, program as checked, diagnostics) or (assistant text, non-code outcome).
-    let mut previous: Option<(String, Result<(String, Vec<Diagnostic>), Extracted>)> = None;
+    let mut previous: Option<(String, PreviousOutcome)> = None;
     let mut last_program: Option<String> = None;
     let mut last_outcome = EpisodeOutcome::NoProgram {
         reply: "none".into(),

@@ -146,7 +146,11 @@ pub fn check_formula(
     let whole = shift(f.span, offset);
     let dfa = match Dfa::build(&f, &atoms, true) {
         Ok(d) => d,
-        Err(e @ (BuildError::TooManyAtoms(_) | BuildError::TooManyStates(_))) => {
+        Err(
+            e @ (BuildError::TooManyAtoms(_)
+            | BuildError::TooManyStates(_)
+            | BuildError::TooDeep(_)),
+        ) => {
             return Err(vec![
                 Diagnostic::new(Code::LtlTooLarge, whole, e.to_string())
                     .help("split the route into fewer places, or drop nested `X` operators"),

@@ -133,6 +133,8 @@ pub enum BuildError {
     TooManyStates(usize),
     /// The formula names an atom not in the list.
     UnknownAtom(String),
+    /// A formula or state nests deeper than the construction recurses.
+    TooDeep(u32),
 }
 
 impl std::fmt::Display for BuildError {
@@ -145,6 +147,12 @@ impl std::fmt::Display for BuildError {
                 write!(f, "the automaton passed {n} states; simplify the formula")
             }
             BuildError::UnknownAtom(a) => write!(f, "unknown atom `{a}`"),
+            BuildError::TooDeep(n) => {
+                write!(
+                    f,
+                    "the formula nests more than {n} levels deep; simplify it"
+                )
+            }
         }
     }
 }
@@ -152,6 +160,9 @@ impl std::fmt::Display for BuildError {
 pub const MAX_ATOMS: usize = 64;
 /// States explored before giving up (the formula is then far larger than a route needs).
 pub const MAX_STATES: usize = 20_000;
+/// Deepest formula or state the construction takes; it recurses over them, and this keeps it well
+/// inside a thread's stack.
+pub const MAX_STATE_DEPTH: u32 = 400;
 
 /// The unfolded form of a state: the current letter's part and the obligations for the rest.
 #[derive(Clone, Debug, PartialEq)]
@@ -244,26 +255,111 @@ fn first_atom(now: &Now) -> Option<u32> {
     }
 }
 
-fn residual(a: &mut Arena, now: &Now) -> Id {
+/// The state after a letter: the residual obligations in disjunctive normal form, each term a
+/// sorted set of obligation nodes, with duplicates and supersets dropped, then rebuilt as one
+/// node. The terms range over a finite set (the formula's temporal subformulas and their
+/// `X`/`WX` wrappers), so this is what makes progression close: ACI and absorption on the nested
+/// form alone still let some formulas grow equivalent states without end.
+fn residual(a: &mut Arena, now: &Now) -> Result<Id, BuildError> {
+    let terms = dnf_now(a, now)?;
+    let mut parts = Vec::with_capacity(terms.len());
+    for t in terms {
+        parts.push(a.and(t));
+    }
+    Ok(a.or(parts))
+}
+
+/// Terms of a disjunctive normal form: each a sorted, duplicate-free conjunction of node ids.
+type Terms = Vec<Vec<Id>>;
+
+/// Terms a residual may have before the construction gives up (the formula is then far larger
+/// than a route needs).
+const MAX_TERMS: usize = 4096;
+
+fn dnf_now(a: &Arena, now: &Now) -> Result<Terms, BuildError> {
     match now {
-        Now::T => Arena::TRUE,
-        Now::F | Now::Lit(..) => Arena::FALSE,
-        Now::Obl(x) => *x,
+        Now::T => Ok(vec![vec![]]),
+        Now::F | Now::Lit(..) => Ok(vec![]),
+        Now::Obl(x) => dnf_id(a, *x),
         Now::And(c) => {
-            let parts: Vec<Id> = c.iter().map(|p| residual(a, p)).collect();
-            a.and(parts)
+            let mut acc: Terms = vec![vec![]];
+            for p in c {
+                acc = product(acc, dnf_now(a, p)?)?;
+            }
+            Ok(acc)
         }
         Now::Or(c) => {
-            let parts: Vec<Id> = c.iter().map(|p| residual(a, p)).collect();
-            a.or(parts)
+            let mut acc: Terms = Vec::new();
+            for p in c {
+                acc.extend(dnf_now(a, p)?);
+            }
+            minimal(acc)
         }
     }
 }
 
-fn split(a: &mut Arena, now: Now, cube: Cube, out: &mut Vec<(Cube, Id)>) {
+fn dnf_id(a: &Arena, id: Id) -> Result<Terms, BuildError> {
+    match a.node(id) {
+        Node::True => Ok(vec![vec![]]),
+        Node::False => Ok(vec![]),
+        Node::And(c) => {
+            let mut acc: Terms = vec![vec![]];
+            for &p in c {
+                acc = product(acc, dnf_id(a, p)?)?;
+            }
+            Ok(acc)
+        }
+        Node::Or(c) => {
+            let mut acc: Terms = Vec::new();
+            for &p in c {
+                acc.extend(dnf_id(a, p)?);
+            }
+            minimal(acc)
+        }
+        _ => Ok(vec![vec![id]]),
+    }
+}
+
+fn product(xs: Terms, ys: Terms) -> Result<Terms, BuildError> {
+    if xs.len().saturating_mul(ys.len()) > MAX_TERMS * 4 {
+        return Err(BuildError::TooManyStates(MAX_STATES));
+    }
+    let mut out = Vec::with_capacity(xs.len() * ys.len());
+    for x in &xs {
+        for y in &ys {
+            let mut t: Vec<Id> = x.iter().chain(y).copied().collect();
+            t.sort_unstable();
+            t.dedup();
+            out.push(t);
+        }
+    }
+    minimal(out)
+}
+
+/// Sorted terms without duplicates and without any term that contains another (absorption).
+fn minimal(mut terms: Terms) -> Result<Terms, BuildError> {
+    terms.sort_by(|x, y| x.len().cmp(&y.len()).then_with(|| x.cmp(y)));
+    terms.dedup();
+    let mut keep: Terms = Vec::with_capacity(terms.len());
+    for t in terms {
+        let absorbed = keep
+            .iter()
+            .any(|k| k.iter().all(|x| t.binary_search(x).is_ok()));
+        if !absorbed {
+            keep.push(t);
+        }
+    }
+    if keep.len() > MAX_TERMS {
+        return Err(BuildError::TooManyStates(MAX_STATES));
+    }
+    keep.sort();
+    Ok(keep)
+}
+
+fn split(a: &mut Arena, now: Now, cube: Cube, out: &mut Vec<(Cube, Id)>) -> Result<(), BuildError> {
     match first_atom(&now) {
         None => {
-            let r = residual(a, &now);
+            let r = residual(a, &now)?;
             out.push((cube, r));
         }
         Some(x) => {
@@ -277,7 +373,7 @@ fn split(a: &mut Arena, now: Now, cube: Cube, out: &mut Vec<(Cube, Id)>) {
                     ..cube
                 },
                 out,
-            );
+            )?;
             let f = assign(&now, x, false);
             split(
                 a,
@@ -287,9 +383,10 @@ fn split(a: &mut Arena, now: Now, cube: Cube, out: &mut Vec<(Cube, Id)>) {
                     ..cube
                 },
                 out,
-            );
+            )?;
         }
     }
+    Ok(())
 }
 
 impl Dfa {
@@ -317,6 +414,9 @@ impl Dfa {
                         .to_string(),
                 )
             })?;
+        if arena.depth(root) > MAX_STATE_DEPTH {
+            return Err(BuildError::TooDeep(MAX_STATE_DEPTH));
+        }
         let raw = explore(&mut arena, root, atoms)?;
         Ok(if minimise { raw.minimised() } else { raw })
     }
@@ -416,8 +516,8 @@ impl Dfa {
         seen[self.initial] = true;
         let mut rep_of: Vec<usize> = Vec::new();
         while let Some(q) = queue.pop_front() {
-            if !order.contains_key(&block[q]) {
-                order.insert(block[q], rep_of.len());
+            if let std::collections::hash_map::Entry::Vacant(slot) = order.entry(block[q]) {
+                slot.insert(rep_of.len());
                 rep_of.push(q);
             }
             for e in &self.edges[q] {
@@ -465,7 +565,7 @@ fn explore(arena: &mut Arena, root: Id, atoms: &[String]) -> Result<Dfa, BuildEr
     while q < states.len() {
         let now = unfold(arena, states[q]);
         let mut leaves = Vec::new();
-        split(arena, now, Cube::default(), &mut leaves);
+        split(arena, now, Cube::default(), &mut leaves)?;
         let mut out: Vec<(usize, Vec<Cube>)> = Vec::new();
         for (cube, succ) in leaves {
             let to = match index.get(&succ) {
@@ -473,6 +573,9 @@ fn explore(arena: &mut Arena, root: Id, atoms: &[String]) -> Result<Dfa, BuildEr
                 None => {
                     if states.len() >= MAX_STATES {
                         return Err(BuildError::TooManyStates(MAX_STATES));
+                    }
+                    if arena.depth(succ) > MAX_STATE_DEPTH {
+                        return Err(BuildError::TooDeep(MAX_STATE_DEPTH));
                     }
                     states.push(succ);
                     index.insert(succ, states.len() - 1);

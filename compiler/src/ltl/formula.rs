@@ -39,6 +39,8 @@ pub enum Node {
 #[derive(Clone, Debug, Default)]
 pub struct Arena {
     nodes: Vec<Node>,
+    /// Nesting depth of each node (a leaf is 1): what recursion over it costs in stack.
+    depths: Vec<u32>,
     index: HashMap<Node, Id>,
 }
 
@@ -70,9 +72,22 @@ impl Arena {
             return id;
         }
         let id = self.nodes.len() as Id;
+        let d = |x: &Id| self.depths[*x as usize];
+        let depth = 1 + match &n {
+            Node::And(c) | Node::Or(c) => c.iter().map(d).max().unwrap_or(0),
+            Node::Next(x) | Node::WeakNext(x) | Node::Eventually(x) | Node::Always(x) => d(x),
+            Node::Until(x, y) | Node::Release(x, y) => d(x).max(d(y)),
+            _ => 0,
+        };
         self.nodes.push(n.clone());
+        self.depths.push(depth);
         self.index.insert(n, id);
         id
+    }
+
+    /// How deeply `id` nests (a leaf is 1).
+    pub fn depth(&self, id: Id) -> u32 {
+        self.depths[id as usize]
     }
 
     pub fn lit(&mut self, atom: u32, negated: bool) -> Id {
@@ -124,14 +139,20 @@ impl Arena {
                         atom,
                         negated: !negated,
                     };
-                    if self.index.get(&other).is_some_and(|o| flat.contains(o)) {
-                        // p & !p is false everywhere; p | !p holds wherever a position remains.
+                    if let Some(&o) = self.index.get(&other).filter(|o| flat.contains(o)) {
+                        // p & !p is false everywhere; p | !p holds wherever a position remains,
+                        // so the pair becomes `NonEmpty` (which leaves fewer literals: this ends).
                         if conj {
                             return zero;
                         }
                         let ne_id = self.non_empty();
-                        flat.push(ne_id);
-                        return self.junction(flat, conj);
+                        let rest: Vec<Id> = flat
+                            .iter()
+                            .copied()
+                            .filter(|&x| x != p && x != o)
+                            .chain([ne_id])
+                            .collect();
+                        return self.junction(rest, conj);
                     }
                 }
                 Node::NonEmpty => ne = true,
@@ -146,6 +167,7 @@ impl Arena {
             let ne_id = self.non_empty();
             flat.retain(|p| *p != ne_id);
         }
+        self.absorb(&mut flat, conj);
         match flat.len() {
             0 => unit,
             1 => flat[0],
@@ -155,6 +177,32 @@ impl Arena {
                 Node::Or(flat)
             }),
         }
+    }
+
+    /// Absorption, `x & (x | y) = x` and `x | (x & y) = x`, and of an inner junction by one with
+    /// fewer children (`(x | y) & (x | y | z) = x | y`). Without it, progression of formulas
+    /// such as `F false W F WX false` builds ever deeper equivalent states and never closes.
+    fn absorb(&self, flat: &mut Vec<Id>, conj: bool) {
+        let inner = |q: Id| -> Option<&[Id]> {
+            match self.node(q) {
+                Node::Or(c) if conj => Some(c),
+                Node::And(c) if !conj => Some(c),
+                _ => None,
+            }
+        };
+        let subset = |a: &[Id], b: &[Id]| a.iter().all(|x| b.binary_search(x).is_ok());
+        let drop: Vec<Id> = flat
+            .iter()
+            .copied()
+            .filter(|&q| {
+                let Some(c) = inner(q) else { return false };
+                c.iter().any(|x| flat.contains(x))
+                    || flat.iter().any(|&o| {
+                        o != q && inner(o).is_some_and(|d| d.len() < c.len() && subset(d, c))
+                    })
+            })
+            .collect();
+        flat.retain(|q| !drop.contains(q));
     }
 
     pub fn next(&mut self, a: Id) -> Id {

@@ -55,7 +55,7 @@ impl Skeleton {
     /// The formula, with atom `i` written `names[i]`.
     pub fn formula(&self, names: &[String]) -> Formula {
         let atom = |i: usize| Formula::atom(&names[i]);
-        let not = |i: usize| Formula::not(atom(i));
+        let not = |i: usize| Formula::negation(atom(i));
         let and = |a: Formula, b: Formula| Formula::new(Kind::And(Box::new(a), Box::new(b)));
         let mut rest: Option<Formula> = None;
         let mut scoped_after = false;

@@ -100,7 +100,7 @@ pub fn with_avoids(formula: &Formula, avoids: &[String]) -> Formula {
     parts.extend(
         avoids
             .iter()
-            .map(|a| Formula::new(Kind::Always(Box::new(Formula::not(Formula::atom(a)))))),
+            .map(|a| Formula::new(Kind::Always(Box::new(Formula::negation(Formula::atom(a)))))),
     );
     Formula::and_all(parts)
 }

@@ -220,7 +220,15 @@ struct Parser {
     end: usize,
     /// Spans of the `(` still open, innermost last.
     open: Vec<Span>,
+    /// How many `implication` / `until` / `unary` calls are active: the parser and everything
+    /// after it recurse over the formula, so nesting is bounded (`MAX_NESTING`).
+    depth: usize,
 }
+
+/// Deepest nesting of operators and parentheses a formula may have. Route formulas nest a few
+/// levels; this keeps parsing, the automaton construction and dropping the tree inside a
+/// thread's stack for any input.
+pub const MAX_NESTING: usize = 200;
 
 /// Parses `text` as a formula. Spans are byte offsets into `text`.
 pub fn parse(text: &str) -> Result<Formula, SyntaxError> {
@@ -230,6 +238,7 @@ pub fn parse(text: &str) -> Result<Formula, SyntaxError> {
         pos: 0,
         end: text.len(),
         open: Vec::new(),
+        depth: 0,
     };
     if p.toks.is_empty() {
         return Err(p.error(
@@ -287,6 +296,10 @@ impl Parser {
     }
 
     fn implication(&mut self) -> Result<Formula, SyntaxError> {
+        self.nested(Self::implication_inner)
+    }
+
+    fn implication_inner(&mut self) -> Result<Formula, SyntaxError> {
         let lhs = self.or()?;
         match self.peek() {
             Some(Tok::Implies) | Some(Tok::Iff) => {
@@ -304,28 +317,51 @@ impl Parser {
         }
     }
 
-    fn or(&mut self) -> Result<Formula, SyntaxError> {
-        let mut lhs = self.and()?;
-        while self.peek() == Some(&Tok::Or) {
-            self.bump();
-            let rhs = self.and()?;
-            let span = Span::new(lhs.span.start, rhs.span.end);
-            lhs = Formula {
-                kind: Kind::Or(Box::new(lhs), Box::new(rhs)),
-                span,
-            };
+    /// Runs one level of the descent, refusing past [`MAX_NESTING`].
+    fn nested(
+        &mut self,
+        level: fn(&mut Self) -> Result<Formula, SyntaxError>,
+    ) -> Result<Formula, SyntaxError> {
+        if self.depth >= MAX_NESTING {
+            let at = self
+                .toks
+                .get(self.pos)
+                .map_or(Span::new(self.end, self.end), |t| t.1);
+            return Err(self.error(
+                SyntaxErrorKind::Syntax,
+                format!("the formula nests more than {MAX_NESTING} levels deep"),
+                at,
+                Some("write it with fewer nested operators and parentheses"),
+            ));
         }
-        Ok(lhs)
+        self.depth += 1;
+        let r = level(self);
+        self.depth -= 1;
+        r
+    }
+
+    fn or(&mut self) -> Result<Formula, SyntaxError> {
+        self.left_assoc(Tok::Or, Self::and, Kind::Or)
     }
 
     fn and(&mut self) -> Result<Formula, SyntaxError> {
-        let mut lhs = self.until()?;
-        while self.peek() == Some(&Tok::And) {
+        self.left_assoc(Tok::And, Self::until, Kind::And)
+    }
+
+    /// `operand (op operand)*`, nested to the left.
+    fn left_assoc(
+        &mut self,
+        op: Tok,
+        operand: fn(&mut Self) -> Result<Formula, SyntaxError>,
+        make: fn(Box<Formula>, Box<Formula>) -> Kind,
+    ) -> Result<Formula, SyntaxError> {
+        let mut lhs = operand(self)?;
+        while self.peek() == Some(&op) {
             self.bump();
-            let rhs = self.until()?;
+            let rhs = operand(self)?;
             let span = Span::new(lhs.span.start, rhs.span.end);
             lhs = Formula {
-                kind: Kind::And(Box::new(lhs), Box::new(rhs)),
+                kind: make(Box::new(lhs), Box::new(rhs)),
                 span,
             };
         }
@@ -333,6 +369,10 @@ impl Parser {
     }
 
     fn until(&mut self) -> Result<Formula, SyntaxError> {
+        self.nested(Self::until_inner)
+    }
+
+    fn until_inner(&mut self) -> Result<Formula, SyntaxError> {
         let lhs = self.unary()?;
         let make: fn(Box<Formula>, Box<Formula>) -> Kind = match self.peek() {
             Some(Tok::Until) => Kind::Until,
@@ -350,6 +390,10 @@ impl Parser {
     }
 
     fn unary(&mut self) -> Result<Formula, SyntaxError> {
+        self.nested(Self::unary_inner)
+    }
+
+    fn unary_inner(&mut self) -> Result<Formula, SyntaxError> {
         let Some((tok, span)) = self.bump() else {
             let at = Span::new(self.end, self.end);
             if let Some(open) = self.open.last() {
@@ -458,7 +502,7 @@ impl Formula {
         Formula::new(Kind::Atom(name.to_string()))
     }
 
-    pub fn not(f: Formula) -> Self {
+    pub fn negation(f: Formula) -> Self {
         Formula::new(Kind::Not(Box::new(f)))
     }
 

@@ -84,3 +84,30 @@ fn ltl_route_prints_and_parses_back() {
     assert!(again.errors.is_empty());
     assert_eq!(m2rc_grammar::print(&again.program), printed);
 }
+
+/// A formula nested past the limit is a diagnostic, not a stack overflow, at any depth.
+#[test]
+fn deep_nesting_is_refused_not_overflowed() {
+    for depth in [250usize, 100_000] {
+        let text = format!("{}a{}", "(".repeat(depth), ")".repeat(depth));
+        let err = super::parse(&text).unwrap_err();
+        assert!(err.message.contains("nests more than"), "{}", err.message);
+        let text = format!("{}a", "F ".repeat(depth));
+        assert!(super::parse(&text).is_err());
+        let text = vec!["a"; depth].join(" -> ");
+        assert!(super::parse(&text).is_err());
+    }
+    assert!(super::parse(&format!("{}a{}", "(".repeat(50), ")".repeat(50))).is_ok());
+}
+
+/// Progression must close on formulas whose residuals only absorption keeps finite (this one is
+/// `true` on every trace: `F WX false` holds at the last position).
+#[test]
+fn progression_closes_with_absorption() {
+    let f = super::parse("F false W F WX false").unwrap();
+    let d = super::Dfa::build(&f, &["a".to_string()], true).unwrap();
+    assert!(d.states() <= 2, "{} states", d.states());
+    for t in [&[0u64][..], &[1], &[0, 1, 0], &[1, 1, 1, 1, 1, 1]] {
+        assert!(d.accepts(t), "{t:?}");
+    }
+}

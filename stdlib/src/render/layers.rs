@@ -94,13 +94,20 @@ fn draw_open_boundaries(out: &mut String, map: &SemanticMap, view: &View) {
     out.push_str("</g>\n");
 }
 
+/// What the base layer leaves for the end of the picture: its labels and the start marker (drawn
+/// after the overlays, so that routes never cover them), and the boxes they take.
+pub(super) struct BaseLabels {
+    pub labels: String,
+    pub placed: Vec<LabelBox>,
+}
+
 pub(super) fn draw_base(
     out: &mut String,
     map: &SemanticMap,
     crop: &Crop,
     view: &View,
     labels: bool,
-) -> Vec<LabelBox> {
+) -> BaseLabels {
     let to_px = |p: Pt| view.corner(p);
     let (w, h) = (crop.cols as usize, crop.rows as usize);
     let mut base = vec![OUTSIDE; w * h];
@@ -226,6 +233,7 @@ pub(super) fn draw_base(
     out.push_str("</g>\n");
     draw_open_boundaries(out, map, view);
 
+    let out = &mut String::new();
     out.push_str("<g id=\"labels\">\n");
     let start_cell = map.start.filter(|c| in_grid(&c));
     let start_r = (view.s * 1.2).clamp(5.0, 9.0);
@@ -245,7 +253,7 @@ pub(super) fn draw_base(
             x1: x + r * 1.7 + 38.0,
             y1: y + 7.0,
         };
-        let with_word = !placed.iter().any(|p| p.overlaps(&word));
+        let with_word = word.x1 <= view.ox + view.w && !placed.iter().any(|p| p.overlaps(&word));
         placed.push(LabelBox::around(x, y, r * 3.6, r * 3.6));
         if with_word {
             placed.push(word);
@@ -278,7 +286,10 @@ pub(super) fn draw_base(
             svg::text(out, x + r * 1.7 + 3.0, y + 4.0, "start", st);
         }
     }
-    placed
+    BaseLabels {
+        labels: std::mem::take(out),
+        placed,
+    }
 }
 
 /// Small things (cups, remotes, anything standing on or inside another object) are drawn lighter
@@ -323,6 +334,8 @@ fn room_labels(
         if let Some(a) = &area_text {
             wdt = wdt.max(svg::text_width(a, size * 0.85, false));
         }
+        let (x, y_inside) = view.keep_inside(x, y, wdt + 4.0, label_h);
+        y = y_inside;
         // Step out of the way of the start marker, away from it vertically.
         if let Some(a) = avoid
             && LabelBox::around(x, y, wdt + 4.0, label_h).overlaps(&a)
@@ -334,6 +347,7 @@ fn room_labels(
                 ay - half - label_h / 2.0 - 2.0
             };
         }
+        let (_, y) = view.keep_inside(x, y, wdt + 4.0, label_h);
         let y0 = y - (lines - 1.0) * size * 0.6 + size * 0.35;
         let st = TextStyle {
             size,
@@ -370,13 +384,10 @@ fn object_labels(
     for o in objects {
         let small = is_small(o);
         let size = if small { 8.5 } else { 10.0 };
+        let (w, h) = (svg::text_width(&o.category, size, false) + 2.0, size * 1.15);
         let (x, y) = view.point(o.center[0], o.center[1]);
-        let b = LabelBox::around(
-            x,
-            y,
-            svg::text_width(&o.category, size, false) + 2.0,
-            size * 1.15,
-        );
+        let (x, y) = view.keep_inside(x, y, w, h);
+        let b = LabelBox::around(x, y, w, h);
         if placed.iter().any(|p| p.overlaps(&b)) {
             continue;
         }

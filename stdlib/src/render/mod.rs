@@ -137,6 +137,8 @@ pub fn render_svg(map: &SemanticMap, opts: &RenderOptions) -> Result<String, Ren
         c0: crop.c0,
         ox: margin,
         oy: margin + title_h,
+        w: map_w,
+        h: map_h,
     };
 
     let mut out = String::with_capacity(64 * 1024);
@@ -195,8 +197,12 @@ pub fn render_svg(map: &SemanticMap, opts: &RenderOptions) -> Result<String, Ren
             st,
         );
     } else {
-        let mut placed = layers::draw_base(&mut out, map, &crop, &view, opts.labels);
-        overlay::draw_overlays(&mut out, &opts.overlays, &view, &mut placed);
+        // Lines first, then every label, then the markers: no label is ever drawn under a route,
+        // and no marker under a label.
+        let mut base = layers::draw_base(&mut out, map, &crop, &view, opts.labels);
+        let markers = overlay::draw_overlays(&mut out, &opts.overlays, &view, &mut base.placed);
+        out.push_str(&base.labels);
+        out.push_str(&markers);
         legend::draw_scale_bar(
             &mut out,
             map.resolution(),
@@ -298,6 +304,9 @@ pub(crate) struct View {
     /// Canvas position of the crop's top-left corner.
     pub ox: f64,
     pub oy: f64,
+    /// Size of the map area on the canvas, pixels.
+    pub w: f64,
+    pub h: f64,
 }
 
 impl View {
@@ -319,5 +328,19 @@ impl View {
 
     pub fn center(&self, c: Cell) -> (f64, f64) {
         self.point(c.row as f64, c.col as f64)
+    }
+
+    /// The centre nearest `(cx, cy)` at which a `w`×`h` label lies wholly inside the map area, so
+    /// that no label is cut off at the picture's edge or runs into the legend (a label wider than
+    /// the map is centred on it).
+    pub fn keep_inside(&self, cx: f64, cy: f64, w: f64, h: f64) -> (f64, f64) {
+        let fit = |c: f64, size: f64, lo: f64, span: f64| {
+            if size >= span {
+                lo + span / 2.0
+            } else {
+                c.clamp(lo + size / 2.0, lo + span - size / 2.0)
+            }
+        };
+        (fit(cx, w, self.ox, self.w), fit(cy, h, self.oy, self.h))
     }
 }

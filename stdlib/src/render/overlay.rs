@@ -99,14 +99,16 @@ pub(super) fn line_colors(overlays: &[Overlay]) -> Vec<Vec<Rgb>> {
         .collect()
 }
 
+/// Draws the overlays' lines and labels into `out`; returns their markers, which go on top of
+/// everything else.
 pub(super) fn draw_overlays(
     out: &mut String,
     overlays: &[Overlay],
     view: &View,
     placed: &mut Vec<LabelBox>,
-) {
+) -> String {
     if overlays.is_empty() {
-        return;
+        return String::new();
     }
     out.push_str("<g id=\"overlays\">\n");
     // Region and route labels go on top of every line, under the markers.
@@ -138,8 +140,7 @@ pub(super) fn draw_overlays(
                 let c = color.first().copied().unwrap_or(style::ROUTE_PALETTE[0]);
                 draw_route(out, cells, c, view);
                 if let (Some(l), Some(first)) = (label, cells.first()) {
-                    let (x, y) = view.center(*first);
-                    route_label(&mut texts, l, x, y, c, placed);
+                    route_label(&mut texts, l, view.center(*first), c, view, placed);
                 }
             }
             Overlay::StagedRoute { stages, label } => {
@@ -149,31 +150,34 @@ pub(super) fn draw_overlays(
                 if let (Some(l), Some(first), Some(&c)) =
                     (label, stages.iter().flatten().next(), color.first())
                 {
-                    let (x, y) = view.center(*first);
-                    route_label(&mut texts, l, x, y, c, placed);
+                    route_label(&mut texts, l, view.center(*first), c, view, placed);
                 }
             }
             _ => {}
         }
     }
     out.push_str(&texts);
+    out.push_str("</g>\n");
+    let mut markers = String::from("<g id=\"markers\">\n");
     for ov in overlays {
         if let Overlay::Marker { cell, label } = ov {
-            draw_marker(out, *cell, label, view);
+            draw_marker(&mut markers, *cell, label, view);
         }
     }
-    out.push_str("</g>\n");
+    markers.push_str("</g>\n");
+    markers
 }
 
 /// Places a label of `w`×`h` pixels centred near `(x, y)`: there if free, else just above or
 /// below the labels in the way, else there anyway (an overlay label is never dropped).
-fn place(x: f64, y: f64, w: f64, h: f64, placed: &mut Vec<LabelBox>) -> (f64, f64) {
-    let mut candidates = vec![(x, y)];
+fn place(x: f64, y: f64, w: f64, h: f64, view: &View, placed: &mut Vec<LabelBox>) -> (f64, f64) {
+    let mut candidates = vec![view.keep_inside(x, y, w, h)];
     for step in 1..=3 {
         let dy = step as f64 * (h + 4.0);
-        candidates.push((x, y + dy));
-        candidates.push((x, y - dy));
+        candidates.push(view.keep_inside(x, y + dy, w, h));
+        candidates.push(view.keep_inside(x, y - dy, w, h));
     }
+    let (x, y) = candidates[0];
     let (cx, cy) = candidates
         .into_iter()
         .find(|&(cx, cy)| {
@@ -186,10 +190,17 @@ fn place(x: f64, y: f64, w: f64, h: f64, placed: &mut Vec<LabelBox>) -> (f64, f6
     (cx, cy)
 }
 
-fn route_label(out: &mut String, label: &str, x: f64, y: f64, c: Rgb, placed: &mut Vec<LabelBox>) {
+fn route_label(
+    out: &mut String,
+    label: &str,
+    (x, y): (f64, f64),
+    c: Rgb,
+    view: &View,
+    placed: &mut Vec<LabelBox>,
+) {
     let hex = c.hex();
     let w = svg::text_width(label, 12.0, true);
-    let (cx, cy) = place(x + 9.0 + w / 2.0, y - 13.0, w, 15.0, placed);
+    let (cx, cy) = place(x + 9.0 + w / 2.0, y - 13.0, w, 15.0, view, placed);
     let st = TextStyle {
         size: 12.0,
         fill: &hex,
@@ -228,7 +239,7 @@ fn draw_region(
         && let Some((spot, _)) = layers::pole(cells)
     {
         let (x, y) = view.center(spot);
-        let (x, y) = place(x, y, svg::text_width(l, 12.0, true), 15.0, placed);
+        let (x, y) = place(x, y, svg::text_width(l, 12.0, true), 15.0, view, placed);
         let st = TextStyle {
             size: 12.0,
             fill: &hex,
@@ -351,6 +362,13 @@ fn draw_marker(out: &mut String, cell: Cell, label: &str, view: &View) {
             anchor: Anchor::Start,
             halo: true,
         };
-        svg::text(out, x + r + 4.0, y + 4.0, label, st);
+        // On the left of the marker when the right side would run off the map.
+        let w = svg::text_width(label, 12.0, true);
+        let lx = if x + r + 4.0 + w > view.ox + view.w {
+            x - r - 4.0 - w
+        } else {
+            x + r + 4.0
+        };
+        svg::text(out, lx, y + 4.0, label, st);
     }
 }

@@ -685,3 +685,82 @@ fn open_boundary_is_drawn_open() {
     let plain = render_svg(&tiny_house(), &RenderOptions::default()).unwrap();
     assert!(!plain.contains("open-boundaries"));
 }
+
+/// Every `<text>` of the map area as (x0, x1, y, content): its horizontal extent from the anchor
+/// and the layout's width estimate.
+fn map_texts(svg: &str) -> Vec<(f64, f64, f64, String)> {
+    let attr = |t: &str, name: &str| -> Option<String> {
+        let i = t.find(&format!(" {name}=\""))? + name.len() + 3;
+        Some(t[i..i + t[i..].find('"')?].to_string())
+    };
+    let mut out = Vec::new();
+    for part in svg.split("<text ").skip(1) {
+        let head = &part[..part.find('>').unwrap()];
+        let content = &part[part.find('>').unwrap() + 1..part.find("</text>").unwrap()];
+        let x: f64 = attr(head, "x").unwrap().parse().unwrap();
+        let y: f64 = attr(head, "y").unwrap().parse().unwrap();
+        let size: f64 = attr(head, "font-size").unwrap().parse().unwrap();
+        let bold = head.contains("font-weight=\"bold\"");
+        let plain = content
+            .replace("&lt;", "<")
+            .replace("&gt;", ">")
+            .replace("&quot;", "\"")
+            .replace("&amp;", "&");
+        let w = svg::text_width(&plain, size, bold);
+        let (x0, x1) = if attr(head, "text-anchor").as_deref() == Some("middle") {
+            (x - w / 2.0, x + w / 2.0)
+        } else {
+            (x, x + w)
+        };
+        out.push((x0, x1, y, content.to_string()));
+    }
+    out
+}
+
+/// Labels near the picture's edges stay inside the map area (not cut off, not over the legend),
+/// and every label is drawn after the routes, so no route runs over a label.
+#[test]
+fn labels_stay_inside_and_above_the_route() {
+    let map = tiny_house();
+    let edge = Cell::new(1, (map.n() - 2) as u32);
+    let opts = RenderOptions {
+        labels: true,
+        scale: 8.0,
+        overlays: vec![
+            Overlay::Route {
+                cells: vec![Cell::new(2, 2), Cell::new(2, 18), edge],
+                label: Some("a long route label at the edge".into()),
+                color: None,
+            },
+            Overlay::Marker {
+                cell: edge,
+                label: "a long marker label at the edge".into(),
+            },
+        ],
+        title: Some(String::new()),
+    };
+    let svg = render_svg(&map, &opts).unwrap();
+    // The map area: the margin, then crop columns × scale; the legend starts 20 px after it.
+    let map_right = svg
+        .split("<g id=\"legend\"")
+        .nth(1)
+        .and_then(|l| l.split(" x=\"").nth(1))
+        .map(|x| x[..x.find('"').unwrap()].parse::<f64>().unwrap() - 20.0)
+        .unwrap();
+    let legend_at = svg.find("<g id=\"legend\"").unwrap_or(svg.len());
+    let texts = map_texts(&svg[..legend_at]);
+    assert!(texts.iter().any(|t| t.3.contains("long route label")));
+    for (x0, x1, _, content) in &texts {
+        assert!(
+            *x0 >= 0.0 && *x1 <= map_right,
+            "{content:?} spans {x0}..{x1}, map ends at {map_right}"
+        );
+    }
+    let route = svg.find("<g id=\"overlays\"").expect("overlays drawn");
+    let labels = svg.find("<g id=\"labels\"").expect("labels drawn");
+    let markers = svg.find("<g id=\"markers\"").expect("markers drawn");
+    assert!(
+        route < labels && labels < markers,
+        "order: overlays {route}, labels {labels}, markers {markers}"
+    );
+}
