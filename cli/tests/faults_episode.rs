@@ -180,7 +180,8 @@ fn bad_episode_files_get_clear_errors_and_integral_floats_are_accepted() {
     let start = json!([base["start_pose"]["row"], base["start_pose"]["col"]]);
     let route = tmp.path().join("r.json");
     write_json(&route, &json!([start]));
-    let cases: Vec<(Box<dyn Fn(&mut serde_json::Value)>, &str)> = vec![
+    type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+    let cases: Vec<(Edit, &str)> = vec![
         (
             Box::new(|v| v["hard_constraints"][0]["cells"] = json!([[100000, 3]])),
             "outside the",

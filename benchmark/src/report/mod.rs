@@ -129,7 +129,7 @@ pub fn markdown_report_with(runs: &[MethodRun], prices: &model::Prices) -> Strin
     let mut out = markdown_report(runs);
     let model = model::markdown(runs, prices);
     if !model.is_empty() {
-        out.push_str("\n");
+        out.push('\n');
         out.push_str(&model);
     }
     out

@@ -20,7 +20,7 @@ use std::process::ExitCode;
 #[derive(Subcommand)]
 pub enum BenchCommand {
     /// Run a method on every episode of a suite; one prediction record per episode.
-    Run(RunArgs),
+    Run(Box<RunArgs>),
     /// Combine the run directories of `--shard` jobs into one.
     Merge(MergeArgs),
     /// Table I, the difficulty analysis, plots, and per-episode pictures.
@@ -32,7 +32,7 @@ pub struct RunArgs {
     /// Suite directory (holds suite.json).
     #[arg(long)]
     pub suite: PathBuf,
-    /// oracle, shortest or hard-only.
+    /// oracle, shortest, hard-only, or grounding2route (an LLM; see the model flags below).
     #[arg(long)]
     pub method: String,
     /// Run directory; records go to <out>/<map_id>/instruction_<id>.json.
@@ -115,7 +115,7 @@ pub struct ReportArgs {
 
 pub fn run(command: BenchCommand) -> Result<ExitCode> {
     match command {
-        BenchCommand::Run(a) => run_method(a),
+        BenchCommand::Run(a) => run_method(*a),
         BenchCommand::Merge(a) => merge(a),
         BenchCommand::Report(a) => report_cmd(a),
     }
