@@ -203,6 +203,57 @@ impl Drop for MapArg {
     }
 }
 
+/// The asset database for a map argument: `explicit` when given, else
+/// `assets/asset-database.json` beside the folder holding the house file (the layout of the
+/// ProcTHOR data, and the rule `suite build` uses), else none. Without one, object sizes come from
+/// a built-in table by category, which is much coarser (every bed the same size).
+pub fn asset_db_for(
+    map_arg: &str,
+    explicit: Option<&Path>,
+) -> Result<Option<m2rc_stdlib::import::AssetDb>> {
+    let path = match explicit {
+        Some(p) => Some(p.to_path_buf()),
+        None => default_asset_path(map_arg),
+    };
+    match path {
+        None => Ok(None),
+        Some(p) => m2rc_stdlib::import::AssetDb::load(&p)
+            .map(Some)
+            .map_err(|e| unusable(anyhow::Error::new(e).context("cannot load the asset database"))),
+    }
+}
+
+fn default_asset_path(map_arg: &str) -> Option<PathBuf> {
+    if map_arg == "-" || map_arg == "demo" {
+        return None;
+    }
+    // `file#i` names one house of a JSON-lines file.
+    let file = match map_arg.rsplit_once('#') {
+        Some((f, i)) if i.parse::<usize>().is_ok() => f,
+        _ => map_arg,
+    };
+    let file = Path::new(file);
+    if !file.is_file() {
+        return None;
+    }
+    let candidate = file
+        .parent()?
+        .parent()?
+        .join("assets")
+        .join("asset-database.json");
+    candidate.is_file().then_some(candidate)
+}
+
+/// The warning for a house imported without an asset database.
+pub fn warn_without_assets(map_arg: &str, kind: m2rc_stdlib::load::SourceKind, had_db: bool) {
+    if kind == m2rc_stdlib::load::SourceKind::ProcthorHouse && !had_db {
+        eprintln!(
+            "warning: {map_arg}: no asset database (none given with --assets, none beside the \
+             houses folder): object sizes come from a built-in table by category"
+        );
+    }
+}
+
 /// Loads a map argument (a Map2Route map, a ProcTHOR house, `demo`, or `-`).
 pub fn load_map(arg: &str) -> Result<m2rc_stdlib::map::SemanticMap> {
     load_map_kind(arg).map(|(m, _)| m)
@@ -213,14 +264,17 @@ pub fn load_map_kind(
     arg: &str,
 ) -> Result<(m2rc_stdlib::map::SemanticMap, m2rc_stdlib::load::SourceKind)> {
     let staged = MapArg::new(arg)?;
+    let db = asset_db_for(arg, None)?;
     let opts = m2rc_stdlib::load::LoadOptions {
         import: m2rc_stdlib::import::ImportOptions {
             map_id: staged.is_stdin().then(|| "stdin".to_string()),
             ..Default::default()
         },
+        assets: db.as_ref(),
         ..Default::default()
     };
-    m2rc_stdlib::load::load_map_with(&staged.arg, &opts)
-        .map(|(d, kind)| (d.map, kind))
-        .map_err(|e| unusable(anyhow::Error::new(e).context(format!("cannot load map `{arg}`"))))
+    let (doc, kind) = m2rc_stdlib::load::load_map_with(&staged.arg, &opts)
+        .map_err(|e| unusable(anyhow::Error::new(e).context(format!("cannot load map `{arg}`"))))?;
+    warn_without_assets(arg, kind, db.is_some());
+    Ok((doc.map, kind))
 }

@@ -301,4 +301,31 @@ mod tests {
             "duplicate id: {v:#?}"
         );
     }
+
+    /// An object with no free cell within the band's reach (walled in on a shelf, say) is still a
+    /// destination: the planner takes the free cell of its room nearest its centre, as the
+    /// reference does, so the verifier must not reject it; a room with no free cell at all is.
+    #[test]
+    fn walled_in_object_falls_back_to_its_room() {
+        let (ir, mut map) = grounded("route { go objects(fridge).only() }");
+        use m2rc_stdlib::map::{FREE, OBSTACLE};
+        for r in 0..=9 {
+            for c in 10..=19 {
+                map.occupancy.set(Cell::new(r, c), OBSTACLE);
+            }
+        }
+        map.occupancy.set(Cell::new(15, 9), FREE);
+        let v = verify(&ir, &MapQuery::new(&map));
+        assert!(v.is_empty(), "{v:#?}");
+        for r in 0..20 {
+            for c in 10..20 {
+                map.occupancy.set(Cell::new(r, c), OBSTACLE);
+            }
+        }
+        let v = verify(&ir, &MapQuery::new(&map));
+        assert!(
+            v.iter().any(|p| p.code == codes::TARGET_UNREACHABLE),
+            "{v:#?}"
+        );
+    }
 }

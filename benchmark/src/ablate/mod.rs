@@ -68,8 +68,8 @@ impl Ablation {
         }
     }
 
-    /// The variants compared, in table order.
-    pub fn variants(self) -> Result<Vec<Box<dyn Method>>, String> {
+    /// The variants compared, in table order. `repair-rounds` needs `model`.
+    pub fn variants(self, model: Option<&ModelSpec>) -> Result<Vec<Box<dyn Method>>, String> {
         let gold = |name: &str, planner, profile| -> Box<dyn Method> {
             Box::new(GoldVariant::new(name, planner, profile))
         };
@@ -98,7 +98,19 @@ impl Ablation {
                     Box::new(v) as Box<dyn Method>
                 },
             ],
-            Ablation::RepairRounds => return Err(repair_rounds_missing()),
+            Ablation::RepairRounds => {
+                let Some(spec) = model else {
+                    return Err(repair_rounds_missing());
+                };
+                let mut out: Vec<Box<dyn Method>> = Vec::new();
+                for r in 0..=spec.max_rounds {
+                    out.push(Box::new(Variant {
+                        name: format!("repair-r{r}"),
+                        inner: (spec.make)(r)?,
+                    }));
+                }
+                out
+            }
             Ablation::Scopes => vec![
                 gold("full", PlannerKind::Sequential, CostProfile::reference()),
                 scoped(
@@ -127,20 +139,61 @@ impl Ablation {
     }
 }
 
-/// Why `repair-rounds` cannot run in this build.
+/// Why `repair-rounds` cannot run without a model.
 pub fn repair_rounds_missing() -> String {
-    "`ablate repair-rounds` needs the LLM method (`grounding2route` with its repair-round flag, \
-     issue 10), which this build does not have yet; the other ablations run without it"
+    "`ablate repair-rounds` runs the LLM method and needs a model: an OpenAI-compatible server \
+     (`--llm-base-url` or M2R_LLM_BASE_URL) or the labelled offline stand-in (`--llm \
+     simulated:<fault rate>:<seed>`); the other ablations run without one"
         .into()
 }
 
-#[derive(Clone, Debug)]
+/// Makes the LLM method with `R` repair rounds; the CLI builds it from its model flags (the
+/// benchmark crate does no model I/O of its own).
+pub type MethodMaker = dyn Fn(usize) -> Result<Box<dyn Method>, String> + Send + Sync;
+
+/// The model side of `repair-rounds`: R runs from 0 to `max_rounds`.
+pub struct ModelSpec {
+    pub max_rounds: usize,
+    pub make: Box<MethodMaker>,
+}
+
+/// A method under its ablation name (`repair-r2`), so that each variant has its own run
+/// directory and row; its configuration says which variant it is.
+struct Variant {
+    name: String,
+    inner: Box<dyn Method>,
+}
+
+impl Method for Variant {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn predict(
+        &self,
+        map: &crate::methods::PreparedMap,
+        episode: &crate::episode::Episode,
+    ) -> Result<crate::methods::Prediction, crate::methods::MethodError> {
+        self.inner.predict(map, episode)
+    }
+
+    fn config(&self) -> serde_json::Value {
+        let mut c = self.inner.config();
+        if let Some(o) = c.as_object_mut() {
+            o.insert("variant".into(), self.name.clone().into());
+        }
+        c
+    }
+}
+
 pub struct AblateOptions {
     pub suite: PathBuf,
     pub out: PathBuf,
     pub shard: Option<Shard>,
     pub split: String,
     pub progress: bool,
+    /// The model for `repair-rounds`; without one that ablation is not run.
+    pub model: Option<ModelSpec>,
 }
 
 /// One finished ablation: its table and where it was written.
@@ -154,7 +207,9 @@ pub struct AblationResult {
 
 /// Runs every variant of `ab` (resuming finished records) and writes its table.
 pub fn run_ablation(ab: Ablation, opts: &AblateOptions) -> Result<AblationResult, RunError> {
-    let variants = ab.variants().map_err(RunError::Invalid)?;
+    let variants = ab
+        .variants(opts.model.as_ref())
+        .map_err(RunError::Invalid)?;
     let dir = opts.out.join(ab.name());
     let mut runs: Vec<MethodRun> = Vec::new();
     for v in &variants {
@@ -217,7 +272,7 @@ pub fn run_all(opts: &AblateOptions) -> Result<Vec<AblationResult>, RunError> {
     let mut results = Vec::new();
     let mut report = String::from("# Ablations\n\n");
     for ab in Ablation::ALL {
-        match ab.variants() {
+        match ab.variants(opts.model.as_ref()) {
             Err(why) => {
                 report.push_str(&format!(
                     "## Ablation `{}`\n\nNot run: {why}.\n\n",

@@ -3,6 +3,7 @@
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
 use m2rc_benchmark::ablate::{self, AblateOptions, Ablation};
+use m2rc_benchmark::methods::grounding2route::Grounding2Route;
 use m2rc_benchmark::runner::Shard;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -42,15 +43,49 @@ pub struct AblateArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// The model for `repair-rounds` (the same flags as `bench run --method grounding2route`).
+    #[command(flatten)]
+    pub llm: m2rc_llm::LlmArgs,
+    /// `repair-rounds` runs R = 0 up to `--repair-rounds` (default 3).
+    #[command(flatten)]
+    pub lower: m2rc_llm::LowerArgs,
+}
+
+/// The model for `repair-rounds`, when one is configured: a server's base URL, or the simulated
+/// model. One reply cache for all R, so that every variant's first answer is the same reply.
+fn model_spec(a: &AblateArgs) -> Option<ablate::ModelSpec> {
+    let configured = match a.llm.backend {
+        m2rc_llm::Backend::Http => a.llm.llm_base_url.is_some(),
+        m2rc_llm::Backend::Simulated(_) => true,
+    };
+    if !configured {
+        return None;
+    }
+    let (llm, lower) = (a.llm.clone(), a.lower.clone());
+    let cache = a.out.join("repair-rounds").join("llm-cache");
+    Some(ablate::ModelSpec {
+        max_rounds: a.lower.repair_rounds,
+        make: Box::new(move |r| {
+            let mut lower = lower.clone();
+            lower.repair_rounds = r;
+            let (m, note) = Grounding2Route::from_args(&llm, &lower, &cache)?;
+            if let (0, Some(n)) = (r, note) {
+                eprintln!("{n}");
+            }
+            Ok(Box::new(m) as Box<dyn m2rc_benchmark::methods::Method>)
+        }),
+    })
 }
 
 pub fn run(a: AblateArgs) -> Result<ExitCode> {
+    let model = model_spec(&a);
     let opts = AblateOptions {
         suite: a.suite,
         out: a.out.clone(),
         shard: a.shard,
         split: a.split,
         progress: super::bench::show_progress(),
+        model,
     };
     let go = || -> Result<String> {
         Ok(match a.which {
@@ -65,7 +100,7 @@ pub fn run(a: AblateArgs) -> Result<ExitCode> {
                     Which::Scopes => Ablation::Scopes,
                     Which::OraclePlanner | Which::All => Ablation::OraclePlanner,
                 };
-                if let Err(why) = ab.variants() {
+                if let Err(why) = ab.variants(opts.model.as_ref()) {
                     bail!("{why}");
                 }
                 ablate::run_ablation(ab, &opts)?.markdown

@@ -40,7 +40,8 @@ pub struct SourceArgs {
     /// Which house of a .jsonl(.gz) file, 0-based.
     #[arg(long)]
     pub index: Option<usize>,
-    /// ProcTHOR asset database (asset-database.json); without it a built-in size table is used.
+    /// ProcTHOR asset database (asset-database.json); default: `assets/asset-database.json`
+    /// beside the houses folder when there is one, else a built-in size table (with a warning).
     #[arg(long)]
     pub assets: Option<PathBuf>,
     /// Metres per grid cell for houses.
@@ -102,10 +103,13 @@ pub fn run(command: MapCommand) -> Result<ExitCode> {
         MapCommand::Info(a) => info(a),
         MapCommand::Render(a) => render(a),
         MapCommand::Check(a) => {
-            let db = match &a.source.assets {
-                Some(p) => Some(AssetDb::load(p)?),
-                None => None,
-            };
+            let db = crate::io::asset_db_for(&a.source.map, a.source.assets.as_deref())?;
+            if db.is_none() && a.maps.is_none() {
+                eprintln!(
+                    "warning: no asset database (none given with --assets, none beside the houses \
+                     folder): object sizes come from a built-in table by category"
+                );
+            }
             let opts = load_options(&a.source, db.as_ref());
             super::map_check::check(a, &opts)
         }
@@ -127,10 +131,7 @@ fn load_options<'a>(src: &SourceArgs, db: Option<&'a AssetDb>) -> LoadOptions<'a
 }
 
 fn load(src: &SourceArgs) -> Result<(MapDocument, SourceKind)> {
-    let db = match &src.assets {
-        Some(p) => Some(AssetDb::load(p)?),
-        None => None,
-    };
+    let db = crate::io::asset_db_for(&src.map, src.assets.as_deref())?;
     let mut opts = load_options(src, db.as_ref());
     let staged = crate::io::MapArg::new(&src.map)?;
     if staged.is_stdin() && opts.import.map_id.is_none() {
@@ -139,6 +140,7 @@ fn load(src: &SourceArgs) -> Result<(MapDocument, SourceKind)> {
     let loaded = load_map_with(&staged.arg, &opts).map_err(|e| {
         crate::io::unusable(anyhow::Error::new(e).context(format!("cannot load map `{}`", src.map)))
     })?;
+    crate::io::warn_without_assets(&src.map, loaded.1, db.is_some());
     for w in import_warnings(&loaded.0) {
         eprintln!("warning: {}: {w}", src.map);
     }
