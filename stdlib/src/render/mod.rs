@@ -332,11 +332,13 @@ impl View {
 
     /// The centre nearest `(cx, cy)` at which a `w`×`h` label lies wholly inside the map area, so
     /// that no label is cut off at the picture's edge or runs into the legend (a label wider than
-    /// the map is centred on it).
+    /// the map starts at its left edge).
     pub fn keep_inside(&self, cx: f64, cy: f64, w: f64, h: f64) -> (f64, f64) {
         let fit = |c: f64, size: f64, lo: f64, span: f64| {
             if size >= span {
-                lo + span / 2.0
+                // Wider than the map: start at its edge, so the text runs on into the margin
+                // rather than off the picture.
+                lo + size / 2.0
             } else {
                 c.clamp(lo + size / 2.0, lo + span - size / 2.0)
             }

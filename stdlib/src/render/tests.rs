@@ -695,7 +695,7 @@ fn map_texts(svg: &str) -> Vec<(f64, f64, f64, String)> {
     };
     let mut out = Vec::new();
     for part in svg.split("<text ").skip(1) {
-        let head = &part[..part.find('>').unwrap()];
+        let head = &format!(" {}", &part[..part.find('>').unwrap()]);
         let content = &part[part.find('>').unwrap() + 1..part.find("</text>").unwrap()];
         let x: f64 = attr(head, "x").unwrap().parse().unwrap();
         let y: f64 = attr(head, "y").unwrap().parse().unwrap();
@@ -729,12 +729,12 @@ fn labels_stay_inside_and_above_the_route() {
         overlays: vec![
             Overlay::Route {
                 cells: vec![Cell::new(2, 2), Cell::new(2, 18), edge],
-                label: Some("a long route label at the edge".into()),
+                label: Some("edge label".into()),
                 color: None,
             },
             Overlay::Marker {
                 cell: edge,
-                label: "a long marker label at the edge".into(),
+                label: "edge marker".into(),
             },
         ],
         title: Some(String::new()),
@@ -747,9 +747,13 @@ fn labels_stay_inside_and_above_the_route() {
         .and_then(|l| l.split(" x=\"").nth(1))
         .map(|x| x[..x.find('"').unwrap()].parse::<f64>().unwrap() - 20.0)
         .unwrap();
-    let legend_at = svg.find("<g id=\"legend\"").unwrap_or(svg.len());
-    let texts = map_texts(&svg[..legend_at]);
-    assert!(texts.iter().any(|t| t.3.contains("long route label")));
+    // Everything up to the end of the markers: map, overlays, labels (not the scale bar below
+    // the map, nor the legend).
+    let markers_at = svg.find("<g id=\"markers\"").unwrap();
+    let markers_end = markers_at + svg[markers_at..].find("</g>").unwrap();
+    let texts = map_texts(&svg[..markers_end]);
+    assert!(texts.iter().any(|t| t.3.contains("edge label")));
+    assert!(texts.iter().any(|t| t.3.contains("edge marker")));
     for (x0, x1, _, content) in &texts {
         assert!(
             *x0 >= 0.0 && *x1 <= map_right,
