@@ -236,21 +236,29 @@ fn default_asset_path(map_arg: &str) -> Option<PathBuf> {
     if !file.is_file() {
         return None;
     }
-    let candidate = file
-        .parent()?
-        .parent()?
-        .join("assets")
-        .join("asset-database.json");
+    asset_path_beside(file)
+}
+
+/// `assets/asset-database.json` beside the folder of house files: the folder itself when `houses`
+/// is one, else the folder holding the file.
+pub fn asset_path_beside(houses: &Path) -> Option<PathBuf> {
+    let folder = if houses.is_dir() {
+        houses
+    } else {
+        houses.parent()?
+    };
+    let candidate = folder.parent()?.join("assets").join("asset-database.json");
     candidate.is_file().then_some(candidate)
 }
+
+/// What a house imported without an asset database is warned with.
+pub const NO_ASSETS_WARNING: &str = "no asset database (none given with --assets, none beside \
+     the houses folder): object sizes come from a built-in table by category";
 
 /// The warning for a house imported without an asset database.
 pub fn warn_without_assets(map_arg: &str, kind: m2rc_stdlib::load::SourceKind, had_db: bool) {
     if kind == m2rc_stdlib::load::SourceKind::ProcthorHouse && !had_db {
-        eprintln!(
-            "warning: {map_arg}: no asset database (none given with --assets, none beside the \
-             houses folder): object sizes come from a built-in table by category"
-        );
+        eprintln!("warning: {map_arg}: {NO_ASSETS_WARNING}");
     }
 }
 

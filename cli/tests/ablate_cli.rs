@@ -8,22 +8,19 @@ use common::*;
 fn repair_rounds_runs_every_r_with_the_simulated_model() {
     let tmp = tempfile::tempdir().unwrap();
     let s = suite(3).to_str().unwrap();
-    let r = m2rc(
-        &[
-            "ablate",
-            "repair-rounds",
-            "--suite",
-            s,
-            "--out",
-            "abl",
-            "--llm",
-            "simulated:0.9:4",
-            "--repair-rounds",
-            "2",
-        ],
-        tmp.path(),
-    )
-    .expect(0);
+    let args = [
+        "ablate",
+        "repair-rounds",
+        "--suite",
+        s,
+        "--out",
+        "abl",
+        "--llm",
+        "simulated:0.9:4",
+        "--repair-rounds",
+        "2",
+    ];
+    let r = m2rc(&args, tmp.path()).expect(0);
     for row in ["repair-r0", "repair-r1", "repair-r2"] {
         assert!(r.stdout.contains(row), "{row} missing:\n{}", r.stdout);
     }
@@ -41,22 +38,7 @@ fn repair_rounds_runs_every_r_with_the_simulated_model() {
     );
     // The same command again resumes: nothing is recomputed and the table is the same bytes.
     let table = std::fs::read(dir.join("table.md")).unwrap();
-    m2rc(
-        &[
-            "ablate",
-            "repair-rounds",
-            "--suite",
-            s,
-            "--out",
-            "abl",
-            "--llm",
-            "simulated:0.9:4",
-            "--repair-rounds",
-            "2",
-        ],
-        tmp.path(),
-    )
-    .expect(0);
+    m2rc(&args, tmp.path()).expect(0);
     assert_eq!(std::fs::read(dir.join("table.md")).unwrap(), table);
 }
 

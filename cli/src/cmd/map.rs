@@ -105,10 +105,7 @@ pub fn run(command: MapCommand) -> Result<ExitCode> {
         MapCommand::Check(a) => {
             let db = crate::io::asset_db_for(&a.source.map, a.source.assets.as_deref())?;
             if db.is_none() && a.maps.is_none() {
-                eprintln!(
-                    "warning: no asset database (none given with --assets, none beside the houses \
-                     folder): object sizes come from a built-in table by category"
-                );
+                eprintln!("warning: {}", crate::io::NO_ASSETS_WARNING);
             }
             let opts = load_options(&a.source, db.as_ref());
             super::map_check::check(a, &opts)

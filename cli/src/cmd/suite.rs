@@ -80,19 +80,13 @@ pub fn run(command: SuiteCommand) -> Result<ExitCode> {
     }
 }
 
-/// `assets/asset-database.json` beside the houses folder; none for houses read from standard
-/// input (give `--assets`).
+/// The asset database beside the houses folder; none for houses read from standard input (give
+/// `--assets`).
 fn default_assets(houses: &Path) -> Option<PathBuf> {
     if houses == Path::new("-") {
         return None;
     }
-    let dir = if houses.is_dir() {
-        houses.to_path_buf()
-    } else {
-        houses.parent()?.to_path_buf()
-    };
-    let candidate = dir.parent()?.join("assets").join("asset-database.json");
-    candidate.exists().then_some(candidate)
+    crate::io::asset_path_beside(houses)
 }
 
 fn build(a: BuildArgs) -> Result<ExitCode> {
