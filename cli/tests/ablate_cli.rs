@@ -1,5 +1,6 @@
 //! `m2rc ablate` from the command line: `repair-rounds` with the labelled simulated model (one
-//! row per R, one shared reply cache), refused without a model; `oracle-planner` writes its table.
+//! row per R, one shared reply cache), refused without a model; `ltl-vs-routeir` adds the model's
+//! rows planned both ways when a model is given; `oracle-planner` writes its table.
 
 mod common;
 use common::*;
@@ -40,6 +41,41 @@ fn repair_rounds_runs_every_r_with_the_simulated_model() {
     let table = std::fs::read(dir.join("table.md")).unwrap();
     m2rc(&args, tmp.path()).expect(0);
     assert_eq!(std::fs::read(dir.join("table.md")).unwrap(), table);
+}
+
+#[test]
+fn ltl_vs_routeir_plans_the_models_programs_both_ways_when_a_model_is_given() {
+    let tmp = tempfile::tempdir().unwrap();
+    let s = suite(3).to_str().unwrap();
+    let without = m2rc(
+        &["ablate", "ltl-vs-routeir", "--suite", s, "--out", "a"],
+        tmp.path(),
+    )
+    .expect(0);
+    assert!(without.stdout.contains("gold+ltl"), "{}", without.stdout);
+    assert!(!without.stdout.contains("llm+"), "{}", without.stdout);
+    let args = [
+        "ablate",
+        "ltl-vs-routeir",
+        "--suite",
+        s,
+        "--out",
+        "b",
+        "--llm",
+        "simulated:0.5:3",
+        "--repair-rounds",
+        "1",
+    ];
+    let with = m2rc(&args, tmp.path()).expect(0);
+    for row in ["gold+routeir", "gold+ltl", "llm+routeir", "llm+ltl"] {
+        assert!(with.stdout.contains(row), "{row} missing:\n{}", with.stdout);
+    }
+    let dir = tmp.path().join("b/ltl-vs-routeir");
+    let ltl = read_json(&dir.join("llm+ltl/run.json"));
+    assert_eq!(ltl["method_config"]["planner"], "ltl", "{ltl}");
+    assert_eq!(ltl["method_config"]["variant"], "llm+ltl", "{ltl}");
+    let seq = read_json(&dir.join("llm+routeir/run.json"));
+    assert!(seq["method_config"].get("planner").is_none(), "{seq}");
 }
 
 #[test]

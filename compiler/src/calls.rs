@@ -157,20 +157,33 @@ impl Checker<'_> {
             self.args_unchecked(args);
             return Type::Error;
         }
-        if builtins::functions(name).next().is_some() {
+        if let Some(first) = builtins::functions(name).next() {
             let recv_text = self.text(receiver.span);
             let mut parts = vec![recv_text];
             parts.extend(args.iter().map(|a| self.text(a.span)));
             let fixed = format!("{name}({})", parts.join(", "));
-            self.report(
-                Diagnostic::new(
-                    Code::FunctionAsMethod,
-                    method.span,
-                    format!("`{name}` is a function, not a method"),
-                )
-                .help(format!("write `{fixed}`"))
-                .suggest(e.span, fixed),
+            let mut d = Diagnostic::new(
+                Code::FunctionAsMethod,
+                method.span,
+                format!("`{name}` is a function, not a method"),
             );
+            // The rewrite moves the receiver to the first argument: offered only when it fits
+            // there, so that applying it never trades this error for a type error.
+            let elem = recv.as_place().unwrap_or(Elem::Place);
+            if builtins::functions(name).any(|b| {
+                b.params
+                    .first()
+                    .is_some_and(|p| p.ty.iter().any(|t| t.accepts(recv, elem)))
+            }) {
+                d = d.help(format!("write `{fixed}`")).suggest(e.span, fixed);
+            } else {
+                d = d
+                    .note(format!("signature: `{}`", first.signature(None)))
+                    .help(format!(
+                        "call it as `{name}(...)`; `{recv}` does not fit its first argument"
+                    ));
+            }
+            self.report(d);
             self.args_unchecked(args);
             return Type::Error;
         }

@@ -52,6 +52,19 @@ impl Checker<'_> {
                         p.name
                     )),
                 );
+            } else if p.ty.contains(&Ty::Is(Type::Int))
+                && p.name == "k"
+                && v < 1.0
+                && b.name == "tour"
+            {
+                self.report(
+                    Diagnostic::new(
+                        Code::ArgumentOutOfRange,
+                        arg.value.span,
+                        format!("`k` of `tour` is how many rooms to pass, at least 1, found `{text}`"),
+                    )
+                    .help("give the number of rooms the instruction names, e.g. `tour(2)` for \"two bedrooms\""),
+                );
             } else if p.ty.contains(&Ty::Is(Type::Int)) && p.name == "k" && v < 1.0 {
                 let far = b.name.contains("farthest");
                 self.report(

@@ -225,7 +225,19 @@ impl Checker<'_> {
                 format!("`{name}` is a built-in function; call it"),
             )
             .note(format!("signature: `{}`", b.signature(None)));
-            if b.params
+            // `objects` -> `objects()` only where the call's result fits: otherwise the fix would
+            // trade this error for another (a set where one place is expected).
+            let result_fits = b
+                .ret
+                .instantiate(Elem::Place)
+                .is_none_or(|t| slot.accepts(t));
+            if !result_fits {
+                d = d.help(format!(
+                    "`{name}()` gives a `{}`, which does not fit here",
+                    b.ret.instantiate(Elem::Place).unwrap_or(Type::Error)
+                ));
+            } else if b
+                .params
                 .iter()
                 .all(|p| p.req != builtins::Requirement::Required)
             {

@@ -1,5 +1,6 @@
 //! Grounding tests of the language v2 constructs on a real fixture house (ProcTHOR house 149 of
-//! the hard validation split): unions and set literals, orderings, object sizes, enclosed areas,
+//! the hard validation split): unions and set literals, open-plan areas, k distinct rooms
+//! (`tour`), no-revisit (`left_behind`), orderings, object sizes, enclosed areas,
 //! house-level places, route history, path shapes without a direction, splitting a stage, and
 //! deeply nested filters.
 
@@ -82,6 +83,167 @@ fn set_literals_and_unions_of_places_are_one_place() {
     assert!(scope.cells.len() > kc.len());
     // `center` of a single room is a region inside the house.
     assert!(!r.stages[1].target.cells.is_empty());
+}
+
+/// House 149's kitchen has no wall to the living room (ProcTHOR leaves it out), and that living
+/// room none to the second: `open_area` is the three rooms, from any of them.
+#[test]
+fn open_area_is_the_open_plan_rooms_around_a_room() {
+    let map = house();
+    let q = MapQuery::new(&map);
+    let id = |cat: &str, k: usize| {
+        map.rooms
+            .iter()
+            .filter(|r| r.category == cat)
+            .nth(k)
+            .unwrap_or_else(|| panic!("{cat} #{k}"))
+            .id
+    };
+    let (kitchen, living) = (
+        id("kitchen", 0),
+        [id("living_room", 0), id("living_room", 1)],
+    );
+    let mut want = vec![kitchen, living[0], living[1]];
+    want.sort_unstable();
+    assert_eq!(
+        q.open_area(kitchen),
+        want,
+        "fixture: the open plan as the map has it"
+    );
+    let r = ir(
+        &map,
+        "let kitchen_room = rooms(kitchen).only()\n\
+         route {\n\
+           go objects(bed).nearest() {\n\
+             avoid kitchen_room.open_area()\n\
+             prefer far(objects(window)) within rooms(living_room).open_area()\n\
+           }\n\
+         }",
+    );
+    let ConstraintKind::Avoid { place } = &r.constraints[0].kind else {
+        panic!("{:?}", r.constraints[0].kind)
+    };
+    let cells = |rooms: &[u32]| rooms.iter().map(|&x| q.room_cells(x).len()).sum::<usize>();
+    for &room in &want {
+        assert!(
+            q.room_cells(room).iter().all(|&c| place.cells.contains(c)),
+            "room {room}"
+        );
+    }
+    assert_eq!(
+        place.cells.len(),
+        cells(&want),
+        "the area is the three rooms, no more"
+    );
+    // From the living rooms (a set), the same area.
+    let scope = r.constraints[1].spatial_scope.as_ref().unwrap();
+    assert_eq!(scope.cells.len(), cells(&want));
+    // A room with no open boundary is its own area.
+    let bath = id("bathroom", 0);
+    assert_eq!(q.open_area(bath), vec![bath]);
+}
+
+fn room_id(p: &PlaceKind) -> u32 {
+    match p {
+        PlaceKind::Room { id, .. } => *id,
+        other => panic!("not a room: {other:?}"),
+    }
+}
+
+/// "Go through two rooms, then to the bed": `tour(2)` picks the two rooms, and their order, of
+/// the shortest walk from the start, as a brute force over every ordered pair confirms.
+#[test]
+fn tour_picks_the_k_rooms_of_the_shortest_walk() {
+    let map = house();
+    let q = MapQuery::new(&map);
+    let r = ir(
+        &map,
+        "route {\n\
+           for r in rooms().except(start.room()).tour(2) { go r }\n\
+           go objects(bed).nearest()\n\
+         }",
+    );
+    assert_eq!(r.stages.len(), 3);
+    let got = [
+        room_id(&r.stages[0].target.kind),
+        room_id(&r.stages[1].target.kind),
+    ];
+    assert_ne!(got[0], got[1], "distinct rooms");
+    let start = map.start.unwrap();
+    let start_room = q.room_at(start);
+    let from_start = q.travel_field(Target::Cells(&[start]));
+    let rooms: Vec<u32> = map
+        .rooms
+        .iter()
+        .map(|r| r.id)
+        .filter(|&r| r != start_room && from_start.to(q.room_cells(r)).is_some())
+        .collect();
+    let walk = |a: u32, b: u32| {
+        from_start.to(q.room_cells(a)).unwrap()
+            + q.travel_field(Target::Room(a))
+                .to(q.room_cells(b))
+                .unwrap_or(f64::INFINITY)
+    };
+    let best = rooms
+        .iter()
+        .flat_map(|&a| rooms.iter().filter(move |&&b| b != a).map(move |&b| (a, b)))
+        .map(|(a, b)| walk(a, b))
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        (walk(got[0], got[1]) - best).abs() < 1e-9,
+        "tour {got:?} walks {} m, the best pair {best} m",
+        walk(got[0], got[1])
+    );
+    // More rooms than the set has is an error at grounding, naming the count.
+    let g = ground(&map, "route { for r in rooms(bathroom).tour(9) { go r } }");
+    assert!(
+        g.problems.iter().any(|p| p.code == "E0504"),
+        "{:#?}",
+        g.problems
+    );
+}
+
+/// "... without going back through a room you have already crossed": `avoid left_behind()` in
+/// the last stage avoids every room of the earlier stages but the one it starts in.
+#[test]
+fn left_behind_is_every_room_visited_but_the_current_one() {
+    let map = house();
+    let q = MapQuery::new(&map);
+    let start_room = q.room_at(map.start.unwrap());
+    let r = ir(
+        &map,
+        "let far_room = rooms().except(start.room()).farthest(by: travel)\n\
+         route {\n\
+           go far_room\n\
+           go objects().in(far_room).farthest() {\n\
+             avoid left_behind()\n\
+           }\n\
+         }",
+    );
+    let ConstraintKind::Avoid { place } = &r.constraints[0].kind else {
+        panic!("{:?}", r.constraints[0].kind)
+    };
+    let far_room = room_id(&r.stages[0].target.kind);
+    let b = r
+        .route_bindings
+        .iter()
+        .find(|b| b.function == "left_behind")
+        .expect("a route binding, re-bound after planning");
+    // The start room was left behind; the room the stage starts in (the far room) was not.
+    assert!(
+        q.room_cells(start_room)
+            .iter()
+            .all(|&c| place.cells.contains(c)),
+        "{}",
+        b.resolved
+    );
+    assert!(
+        q.room_cells(far_room)
+            .iter()
+            .all(|&c| !place.cells.contains(c)),
+        "{}",
+        b.resolved
+    );
 }
 
 #[test]

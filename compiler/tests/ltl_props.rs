@@ -1,8 +1,10 @@
 //! Property tests of the LTL backend: for random small formulas and random finite traces, the
 //! automaton accepts exactly when the direct LTLf semantics holds; minimisation keeps the
 //! language; printing parses back to the same formula; the JSON guards parse in the formula
-//! syntax and select the same successor as the automaton.
+//! syntax and select the same successor as the automaton; the HOA output, read back by an
+//! independent parser (`hoars`), is the same automaton.
 
+use hoars::{AbstractLabelExpression as Label, HeaderItem, HoaAutomaton};
 use m2rc_compiler::ltl::formula::holds;
 use m2rc_compiler::ltl::syntax::{Formula, Kind};
 use m2rc_compiler::ltl::{Dfa, export, parse};
@@ -51,6 +53,51 @@ fn formula() -> impl Strategy<Value = Formula> {
     })
 }
 
+/// Whether a HOA label holds on `letter` (bit i = atom i in the route's cell).
+fn label_holds(l: &Label, letter: u64) -> bool {
+    match l {
+        Label::Boolean(b) => *b,
+        Label::Integer(i) => letter >> i & 1 == 1,
+        Label::Negated(x) => !label_holds(x, letter),
+        Label::Conjunction(xs) => xs.iter().all(|x| label_holds(x, letter)),
+        Label::Disjunction(xs) => xs.iter().any(|x| label_holds(x, letter)),
+    }
+}
+
+/// The successor of `state` on `letter` in the parsed automaton, when exactly one edge's label
+/// holds (the export claims `deterministic complete`).
+fn hoa_step(h: &HoaAutomaton, state: u32, letter: u64) -> Result<u32, String> {
+    let s = h
+        .body()
+        .iter()
+        .find(|s| s.id() == state)
+        .ok_or(format!("state {state} is not in the body"))?;
+    let targets: Vec<u32> = s
+        .edges()
+        .iter()
+        .filter(|e| label_holds(e.label(), letter))
+        .map(|e| {
+            e.target()
+                .ok_or("an edge with a state conjunction".to_string())
+        })
+        .collect::<Result<_, _>>()?;
+    match targets[..] {
+        [t] => Ok(t),
+        _ => Err(format!(
+            "state {state}, letter {letter:#b}: {} edges hold",
+            targets.len()
+        )),
+    }
+}
+
+fn hoa_accepting(h: &HoaAutomaton, state: u32) -> bool {
+    h.body().iter().find(|s| s.id() == state).is_some_and(|s| {
+        s.edges()
+            .iter()
+            .any(|e| e.acceptance_signature().contains(&0))
+    })
+}
+
 fn trace() -> impl Strategy<Value = Vec<u64>> {
     prop::collection::vec(0u64..8, 1..7)
 }
@@ -92,6 +139,35 @@ proptest! {
                 let sat = holds(&g, &[letter], 0, &index);
                 prop_assert_eq!(sat, d.step(from, letter) == to);
             }
+        }
+    }
+
+    #[test]
+    fn hoa_output_reads_back_as_the_same_automaton(f in formula(), traces in prop::collection::vec(trace(), 12)) {
+        let d = Dfa::build(&f, &names(), true).unwrap();
+        let text = export::to_hoa(&d, "prop");
+        let h = hoars::input::from_hoa(&text).map_err(|e| TestCaseError::fail(format!("{e:?}\n{text}")))?;
+        prop_assert!(h.verify().is_ok(), "{:?}", h.verify());
+        prop_assert_eq!(h.num_states(), Some(d.states()));
+        let aps = h.header().iter().find_map(|i| match i { HeaderItem::AP(a) => Some(a.clone()), _ => None });
+        prop_assert_eq!(aps, Some(names()));
+        let start = h.start();
+        prop_assert_eq!(start.len(), 1);
+        let start = start[0].get_singleton().unwrap();
+        prop_assert_eq!(start as usize, d.initial);
+        for q in 0..d.states() {
+            prop_assert_eq!(hoa_accepting(&h, q as u32), d.accepting[q], "state {}", q);
+            for letter in 0..8u64 {
+                let to = hoa_step(&h, q as u32, letter).map_err(TestCaseError::fail)?;
+                prop_assert_eq!(to as usize, d.step(q, letter));
+            }
+        }
+        for t in &traces {
+            let mut q = start;
+            for &letter in t {
+                q = hoa_step(&h, q, letter).map_err(TestCaseError::fail)?;
+            }
+            prop_assert_eq!(hoa_accepting(&h, q), d.accepts(t), "formula {} trace {:?}", f, t);
         }
     }
 }

@@ -435,12 +435,26 @@ fn lex_error(source: &str, span: Span, issue: &LexIssue) -> ParseError {
             }
             err
         }
-        LexIssue::Lex(LexError::UnterminatedString) => ParseError::new(
-            span,
-            ParseErrorKind::UnterminatedString,
-            "unterminated string: no closing `\"` on this line",
-        )
-        .with_fix(Span::new(span.end, span.end), "\""),
+        LexIssue::Lex(LexError::UnterminatedString) => {
+            let err = ParseError::new(
+                span,
+                ParseErrorKind::UnterminatedString,
+                "unterminated string: no closing `\"` on this line",
+            );
+            match leading_bare_name(&text) {
+                // No built-in takes a string argument, so `"bed)` is the category `bed` with a
+                // stray quote, not a string missing its end.
+                Some(name) => err
+                    .with_help(format!(
+                        "categories and names are written without quotes: `{name}`"
+                    ))
+                    .with_fix(Span::new(span.start, span.start + 1), ""),
+                None => {
+                    let end = span.start + text.trim_end().len();
+                    err.with_fix(Span::new(end, end), "\"")
+                }
+            }
+        }
         LexIssue::Lex(LexError::BadEscape(escape)) => ParseError::new(
             span,
             ParseErrorKind::BadEscape {
@@ -503,6 +517,18 @@ fn format_millimetres(digits: &str) -> String {
         Ok(mm) => crate::print::format_f64(mm / 1000.0),
         Err(_) => digits.to_string(),
     }
+}
+
+/// The name an unterminated string starts with when punctuation that ends an argument follows
+/// it (`"bed).nearest()` -> `bed`); `None` for anything else, such as a formula `"F(a & b)`.
+fn leading_bare_name(text: &str) -> Option<&str> {
+    let body = text.strip_prefix('"')?;
+    let run = body
+        .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .unwrap_or(body.len());
+    let name = &body[..run];
+    let ends_argument = body[run..].trim_start().starts_with([')', ',', '.', '}']);
+    (!name.is_empty() && ends_argument && is_plain_name(name)).then_some(name)
 }
 
 fn is_plain_name(text: &str) -> bool {

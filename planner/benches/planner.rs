@@ -12,6 +12,11 @@
 //!   region, spatial and stage scopes) plus the sequential plan, on fixture house 149; cold (map
 //!   indexed inside the call) and with a per-map `MapContext` built once.
 //!
+//! * `ltl/house_149`: the LTL backend on a Hard-sized program with hard constraints only (four
+//!   destinations, two stage-scoped and two global avoids: 8 atoms): automaton construction from
+//!   the problem's formula, product-graph planning, and the global RouteIR planner on the same
+//!   problem (shortest profile: no soft terms, no clearance), so the two planners compare directly.
+//!
 //! Maps: the largest house of `../shared/procthor/fixtures` imported at 0.05 m when the importer can
 //! read it, and a synthetic 700×700 house (walls, doors, furniture) that always exists.
 
@@ -475,11 +480,12 @@ const HOUSE: &str = "procthor10k_uniform_hard_val_150_149.json";
 /// four planned stages, every soft-term kind, an avoid region, spatial and stage scopes.
 const PROGRAM: &str = include_str!("house149_tour.m2r");
 
-fn full_plan(c: &mut Criterion) {
+/// House 149 and `program` grounded on it: `None` when the fixtures are not beside the repository.
+fn grounded_on_house_149(
+    program: &str,
+) -> Option<(m2rc_stdlib::map::SemanticMap, m2rc_compiler::ir::RouteIr)> {
     use m2rc_compiler::check::check;
     use m2rc_compiler::eval::{GroundOptions, ground_checked};
-    use m2rc_planner::context::MapContext;
-    use m2rc_planner::lower::{lower, lower_with};
     use m2rc_stdlib::query::MapQuery;
     use m2rc_stdlib::vocab::Vocabulary;
 
@@ -487,19 +493,29 @@ fn full_plan(c: &mut Criterion) {
         .join("../../shared/procthor/fixtures")
         .join(HOUSE);
     let Ok(map) = m2rc_stdlib::load::load_map(&path.to_string_lossy()) else {
-        eprintln!("fixture house {HOUSE} not found beside the repository; skipping full_plan");
-        return;
+        eprintln!("fixture house {HOUSE} not found beside the repository; skipping");
+        return None;
     };
-    let checked = check(PROGRAM, &Vocabulary::from_map(&map));
+    let checked = check(program, &Vocabulary::from_map(&map));
     assert!(!checked.has_errors(), "{:#?}", checked.diagnostics);
     let q = MapQuery::new(&map);
-    let g = ground_checked(&checked, PROGRAM, &q, &GroundOptions::default());
-    let ir = g.ir.expect("the bench program grounds on house 149");
+    let g = ground_checked(&checked, program, &q, &GroundOptions::default());
     assert!(
         !g.problems.iter().any(|p| p.is_error()),
         "{:#?}",
         g.problems
     );
+    let ir = g.ir.expect("the bench program grounds on house 149");
+    Some((map, ir))
+}
+
+fn full_plan(c: &mut Criterion) {
+    use m2rc_planner::context::MapContext;
+    use m2rc_planner::lower::{lower, lower_with};
+
+    let Some((map, ir)) = grounded_on_house_149(PROGRAM) else {
+        return;
+    };
     let profile = CostProfile::reference();
     let problem = lower(&ir, &map, profile.clone()).expect("lowers");
     let r = plan_sequential(&problem);
@@ -533,5 +549,47 @@ fn full_plan(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(planner, benches, full_plan);
+/// Four destinations, two stage-scoped and two global avoids on house 149: 8 LTL atoms.
+const HARD_PROGRAM: &str = include_str!("house149_hard.m2r");
+
+fn ltl_vs_global(c: &mut Criterion) {
+    use m2rc_compiler::ltl::Dfa;
+    use m2rc_planner::context::MapContext;
+    use m2rc_planner::lower::lower_with;
+    use m2rc_planner::product_lower::{plan_ltl, problem_ltl};
+
+    let Some((map, ir)) = grounded_on_house_149(HARD_PROGRAM) else {
+        return;
+    };
+    let ctx = MapContext::new(&map).expect("indexes");
+    let problem = lower_with(&ir, &map, &ctx, CostProfile::shortest()).expect("lowers");
+    let lt = problem_ltl(&problem);
+    let dfa = Dfa::build(&lt.formula, &lt.names, true).expect("builds");
+    let (product, global) = (plan_ltl(&problem), plan_global(&problem));
+    assert!(product.is_success(), "{:?}", product.failure);
+    assert!(global.is_success(), "{:?}", global.failure);
+    eprintln!(
+        "[house 149] {} atoms, {} automaton states; product {:.2} m ({} expansions), global {:.2} m ({} expansions)",
+        lt.names.len(),
+        dfa.states(),
+        product.length_m,
+        product.expansions,
+        global.length_m,
+        global.expansions
+    );
+    let mut group = c.benchmark_group("ltl/house_149");
+    group.bench_function("dfa_8_atoms", |b| {
+        b.iter(|| black_box(Dfa::build(black_box(&lt.formula), &lt.names, true)))
+    });
+    group.sample_size(10);
+    group.bench_function("product_plan", |b| {
+        b.iter(|| black_box(plan_ltl(black_box(&problem))))
+    });
+    group.bench_function("global_plan_same_hard_constraints", |b| {
+        b.iter(|| black_box(plan_global(black_box(&problem))))
+    });
+    group.finish();
+}
+
+criterion_group!(planner, benches, full_plan, ltl_vs_global);
 criterion_main!(planner);

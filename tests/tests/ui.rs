@@ -284,7 +284,6 @@ fn ui_checkable(id: &str) -> bool {
 /// repair: applied alone, it removes its diagnostic and adds no error (every alternative of a
 /// diagnostic is tried, since the writer may pick any).
 #[test]
-#[ignore = "three suggestions still add errors (E0114 patrol-as-method, E0111 `objects` -> `objects()`, E0005 closing quote); see the issue 15 note"]
 fn every_suggestion_removes_its_error_and_adds_none() {
     use std::collections::BTreeMap;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("ui/errors");

@@ -97,7 +97,24 @@ impl Ablation {
                     v.note = Some("LTL planner: soft preferences and path shapes dropped");
                     Box::new(v) as Box<dyn Method>
                 },
-            ],
+            ]
+            .into_iter()
+            .chain(match model {
+                // The paper's CaG + RouteIR and CaG + LTL rows: the model's programs, with
+                // R repair rounds, planned both ways.
+                Some(spec) => vec![
+                    Box::new(Variant {
+                        name: "llm+routeir".into(),
+                        inner: (spec.make)(spec.max_rounds, PlannerKind::Sequential)?,
+                    }) as Box<dyn Method>,
+                    Box::new(Variant {
+                        name: "llm+ltl".into(),
+                        inner: (spec.make)(spec.max_rounds, PlannerKind::Ltl)?,
+                    }),
+                ],
+                None => vec![],
+            })
+            .collect(),
             Ablation::RepairRounds => {
                 let Some(spec) = model else {
                     return Err(repair_rounds_missing());
@@ -106,7 +123,7 @@ impl Ablation {
                 for r in 0..=spec.max_rounds {
                     out.push(Box::new(Variant {
                         name: format!("repair-r{r}"),
-                        inner: (spec.make)(r)?,
+                        inner: (spec.make)(r, PlannerKind::Sequential)?,
                     }));
                 }
                 out
@@ -147,11 +164,12 @@ pub fn repair_rounds_missing() -> String {
         .into()
 }
 
-/// Makes the LLM method with `R` repair rounds; the CLI builds it from its model flags (the
-/// benchmark crate does no model I/O of its own).
-pub type MethodMaker = dyn Fn(usize) -> Result<Box<dyn Method>, String> + Send + Sync;
+/// Makes the LLM method with `R` repair rounds and the given planner; the CLI builds it from its
+/// model flags (the benchmark crate does no model I/O of its own).
+pub type MethodMaker = dyn Fn(usize, PlannerKind) -> Result<Box<dyn Method>, String> + Send + Sync;
 
-/// The model side of `repair-rounds`: R runs from 0 to `max_rounds`.
+/// The model side of `repair-rounds` (R runs from 0 to `max_rounds`) and of the LLM rows of
+/// `ltl-vs-routeir` (R = `max_rounds`).
 pub struct ModelSpec {
     pub max_rounds: usize,
     pub make: Box<MethodMaker>,

@@ -19,6 +19,7 @@ use m2rc_compiler::lower::{
     Verdict, run_episode,
 };
 use m2rc_llm::{Backend, Exchange, Fetch, HttpClient, SimulatedModel, Store};
+use m2rc_planner::PlannerKind;
 use m2rc_planner::context::MapContext;
 use m2rc_stdlib::map::SemanticMap;
 use serde::{Deserialize, Serialize};
@@ -40,6 +41,19 @@ pub struct Grounding2RouteConfig {
     pub max_tokens: Option<u32>,
     pub repair: RepairOptions,
     pub prompt: PromptOptions,
+    /// The planner of accepted programs: the paper's sequential planner, or the LTL backend for
+    /// the CaG + LTL comparison (`ablate ltl-vs-routeir`). Left out of the configuration when
+    /// sequential, so earlier runs keep their fingerprint.
+    #[serde(default = "sequential", skip_serializing_if = "is_sequential")]
+    pub planner: PlannerKind,
+}
+
+fn sequential() -> PlannerKind {
+    PlannerKind::Sequential
+}
+
+fn is_sequential(p: &PlannerKind) -> bool {
+    *p == PlannerKind::Sequential
 }
 
 impl Grounding2RouteConfig {
@@ -73,6 +87,7 @@ impl Default for Grounding2RouteConfig {
                 catalog: CatalogMode::Counts,
                 examples: 5,
             },
+            planner: PlannerKind::Sequential,
         }
     }
 }
@@ -153,6 +168,7 @@ impl Method for Grounding2Route {
         };
         let pipeline = PipelineOptions {
             start: Some(start),
+            planner: self.config.planner,
             ..PipelineOptions::default()
         };
         let (prompt, trace) = lower_and_plan(
@@ -236,6 +252,7 @@ impl Grounding2Route {
             },
             repair: lower.repair_options(),
             prompt: lower.prompt_options(),
+            planner: PlannerKind::Sequential,
         };
         Ok((
             Grounding2Route {

@@ -65,10 +65,11 @@ fn model_spec(a: &AblateArgs) -> Option<ablate::ModelSpec> {
     let cache = a.out.join("repair-rounds").join("llm-cache");
     Some(ablate::ModelSpec {
         max_rounds: a.lower.repair_rounds,
-        make: Box::new(move |r| {
+        make: Box::new(move |r, planner| {
             let mut lower = lower.clone();
             lower.repair_rounds = r;
-            let (m, note) = Grounding2Route::from_args(&llm, &lower, &cache)?;
+            let (mut m, note) = Grounding2Route::from_args(&llm, &lower, &cache)?;
+            m.config.planner = planner;
             if let (0, Some(n)) = (r, note) {
                 eprintln!("{n}");
             }

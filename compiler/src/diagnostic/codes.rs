@@ -149,13 +149,13 @@ codes! {
     DuplicateArgument = "E0110", Error, "argument given twice",
         "route { go objects(chair).nearest(to: start, to: start) }";
     FunctionAsValue = "E0111", Error, "built-in function used without a call",
-        "route { go objects }";
+        "route { go objects(chair).in(rooms.nearest()).nearest() }";
     RebindBuiltin = "E0112", Error, "built-in constant rebound",
         "let start = objects(bed).only()\nroute { go start }";
     MethodAsFunction = "E0113", Error, "method called as a function",
         "route { go nearest(objects(chair)) }";
     FunctionAsMethod = "E0114", Error, "function called as a method",
-        "route { go objects(chair).nearest().patrol(clockwise) }";
+        "route { go objects(chair).center() }";
 
     // --- E02xx: types ---------------------------------------------------------------------------
     TypeMismatch = "E0201", Error, "mismatched types",

@@ -29,6 +29,8 @@ fn to_codespan(d: &Diagnostic, source: &str) -> cs::Diagnostic<()> {
         let original = source.get(at.clone()).unwrap_or("");
         if original.is_empty() {
             notes.push(format!("suggestion: insert `{}`", s.replacement));
+        } else if s.replacement.is_empty() {
+            notes.push(format!("suggestion: remove `{original}`"));
         } else {
             notes.push(format!(
                 "suggestion: replace `{original}` with `{}`",

@@ -34,6 +34,7 @@ pub(crate) const ROUTE_DEPENDENT: &[&str] = &[
     "first_entered",
     "kth_entered",
     "visited",
+    "left_behind",
 ];
 
 /// What an expression's value can depend on.

@@ -244,3 +244,78 @@ fn unknown_requests_get_an_error_not_silence() {
     let _ = c.request("shutdown", serde_json::Value::Null);
     let _ = lsp::Uri::from_str(URI).unwrap();
 }
+
+/// The message loop hands checks to the checker thread and never waits for one: with no checker
+/// draining the queue at all (a check that never finishes), hover and completion on the open
+/// document are still answered, and the check waits in the queue for the newest text.
+#[test]
+fn hover_and_completion_are_answered_while_a_check_is_still_running() {
+    let (server, client) = Connection::memory();
+    let (jobs, queue) = std::sync::mpsc::channel();
+    let thread = std::thread::spawn(move || {
+        let vocab = Vocabulary::benchmark();
+        let _ = serve_messages(&server, &vocab, jobs);
+    });
+    // A large document (about 1 MB) whose check would take a while even if it ran.
+    let mut text = String::from("let c = objects(chair).nearest(start)\n");
+    for i in 0..20_000 {
+        text.push_str(&format!("let b{i} = rooms(bedroom).nearest()\n"));
+    }
+    text.push_str("route { go c }\n");
+    let send = |m: Message| client.sender.send(m).unwrap();
+    send(Message::Notification(Notification::new(
+        "textDocument/didOpen".into(),
+        serde_json::json!({ "textDocument": { "uri": URI, "languageId": "m2r", "version": 1, "text": text } }),
+    )));
+    send(Message::Request(Request::new(
+        RequestId::from(1),
+        "textDocument/hover".into(),
+        serde_json::json!({ "textDocument": { "uri": URI }, "position": { "line": 0, "character": 10 } }),
+    )));
+    send(Message::Request(Request::new(
+        RequestId::from(2),
+        "textDocument/completion".into(),
+        serde_json::json!({ "textDocument": { "uri": URI }, "position": { "line": 0, "character": 23 } }),
+    )));
+    let mut answered = Vec::new();
+    while answered.len() < 2 {
+        match client.receiver.recv_timeout(Duration::from_secs(60)) {
+            Ok(Message::Response(r)) => answered.push(r),
+            Ok(other) => panic!("only responses can come while no check runs: {other:?}"),
+            Err(e) => panic!("no answer while the check is pending: {e}"),
+        }
+    }
+    let hover = answered[0].response_result.clone().expect("hover result");
+    assert!(
+        hover["contents"]["value"]
+            .as_str()
+            .is_some_and(|s| s.contains("objects")),
+        "{hover}"
+    );
+    let items = answered[1]
+        .response_result
+        .clone()
+        .expect("completion result");
+    assert!(
+        items
+            .as_array()
+            .is_some_and(|a| a.iter().any(|i| i["label"] == "nearest")),
+        "{items}"
+    );
+    // The check is queued, not lost: one job, for version 1 of the document.
+    match queue.try_recv() {
+        Ok(worker::Job::Check { version, .. }) => assert_eq!(version, 1),
+        Ok(_) => panic!("expected a check job"),
+        Err(e) => panic!("the check was not queued: {e}"),
+    }
+    send(Message::Request(Request::new(
+        RequestId::from(3),
+        "shutdown".into(),
+        serde_json::Value::Null,
+    )));
+    send(Message::Notification(Notification::new(
+        "exit".into(),
+        serde_json::Value::Null,
+    )));
+    thread.join().unwrap();
+}

@@ -204,6 +204,28 @@ fn strings() {
     let (code, at, msg) = one("let s = \"abc\nlet t = 1");
     assert_eq!((code, at.as_str()), ("E0005", "\"abc"));
     assert_eq!(msg, "unterminated string: no closing `\"` on this line");
+    // A stray quote before a name that ends an argument is dropped (no built-in takes a string);
+    // otherwise the string is closed at the end of the line.
+    for (src, fixed) in [
+        (
+            "go objects(\"bed).nearest()\n",
+            "go objects(bed).nearest()\n",
+        ),
+        (
+            "go objects(\"dog_bed, within: 1m)\n",
+            "go objects(dog_bed, within: 1m)\n",
+        ),
+        ("go rooms(\"living room)\n", "go rooms(\"living room)\"\n"),
+        ("route ltl \"F(a & b)  \n", "route ltl \"F(a & b)\"  \n"),
+        ("let s = \"abc\n", "let s = \"abc\"\n"),
+    ] {
+        let errs = errors(src);
+        let e = errs.iter().find(|e| e.code() == "E0005").expect("E0005");
+        let fix = e.fix.as_ref().expect("a fix");
+        let mut out = src.to_string();
+        out.replace_range(fix.span.start..fix.span.end, &fix.replacement);
+        assert_eq!(out, fixed, "{src:?}");
+    }
     let (code, at, _) = one(r#"let s = "a\qb""#);
     assert_eq!((code, at.as_str()), ("E0008", r#""a\qb""#));
 }

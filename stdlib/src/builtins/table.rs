@@ -177,6 +177,14 @@ pub static BUILTINS: &[Builtin] = &[
         "objects(lamp).farthest_first(by: travel)",
     ),
     method(
+        SET_ROOM,
+        "tour",
+        &[p("k", INT, Required), p("from", PLACE, HERE)],
+        Ty::SET_ROOM,
+        "k distinct rooms of the set, in the order of the shortest walk from `from` that enters each in turn (the compiler chooses which): \"through two bedrooms\" is `for r in rooms(bedroom).tour(2) { go r }`.",
+        "rooms(bedroom).tour(2)",
+    ),
+    method(
         SET_T,
         "reversed",
         NONE,
@@ -540,6 +548,14 @@ pub static BUILTINS: &[Builtin] = &[
         "The rooms sharing a doorway with this room.",
         "start.room().adjacent()",
     ),
+    method(
+        ROOM_OR_ROOMS,
+        "open_area",
+        NONE,
+        Ty::SET_ROOM,
+        "The open-plan area of the room: the room and every room joined to it by open boundaries (no wall, no door), directly or through others; only the room itself when it has none. Each room keeps its own name.",
+        "start.room().open_area()",
+    ),
     free(
         "doorways_between",
         &[p("a", ROOM, Required), p("b", ROOM, Required)],
@@ -634,6 +650,13 @@ pub static BUILTINS: &[Builtin] = &[
         Ty::SET_ROOM,
         "The rooms the route has been in before the current stage starts, the start room included.",
         "rooms(bathroom).except(visited())",
+    ),
+    free(
+        "left_behind",
+        NONE,
+        Ty::SET_ROOM,
+        "The rooms the route has been in and left before the current stage starts (`visited()` without the room the stage starts in): `avoid left_behind()` in a stage is \"without going back through a room you have already crossed\".",
+        "avoid left_behind()",
     ),
     // --- Preferences ----------------------------------------------------------------------------
     free(

@@ -17,7 +17,7 @@ use rand_chacha::ChaCha8Rng;
 pub const FAR_MIN_GAIN_M: f64 = 0.6;
 /// The reference route passes the object at most this far on average, metres.
 pub const FAR_MAX_SHORTEST_M: f64 = 2.5;
-const TRIES: usize = 5;
+const TRIES: usize = 8;
 
 impl<'a> Scene<'a> {
     pub(crate) fn place_far(

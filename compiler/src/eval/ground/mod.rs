@@ -13,6 +13,7 @@ mod preferences;
 mod queries;
 mod rankings;
 mod route_places;
+mod tour;
 
 use super::Grounder;
 use super::value::{PlaceVal, Value};

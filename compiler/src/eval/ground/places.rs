@@ -14,6 +14,7 @@ pub(super) fn lookup(row: &Builtin) -> Option<GroundFn> {
         ("corners", true) => Some(corners),
         ("doorways", true) => Some(doorways),
         ("adjacent", true) => Some(adjacent),
+        ("open_area", true) => Some(open_area),
         ("doorways_between", false) => Some(doorways_between),
         ("area_between", false) => Some(area_between),
         ("area_near", false) => Some(area_near),
@@ -84,6 +85,17 @@ fn adjacent(g: &mut Grounder, c: Call) -> Value {
         ),
         _ => g.unsupported(c.e),
     }
+}
+
+/// The union of the receiver rooms' open-plan areas, by room id.
+fn open_area(g: &mut Grounder, c: Call) -> Value {
+    let mut rooms: Vec<u32> = recv_rooms(&c)
+        .into_iter()
+        .flat_map(|r| g.q.open_area(r))
+        .collect();
+    rooms.sort_unstable();
+    rooms.dedup();
+    Value::Set(rooms.into_iter().map(PlaceVal::Room).collect())
 }
 
 fn doorways_between(g: &mut Grounder, c: Call) -> Value {

@@ -20,6 +20,7 @@ pub(super) fn lookup(row: &Builtin) -> Option<GroundFn> {
         "reversed" => Some(reversed),
         "kth" => Some(kth),
         "only" => Some(only),
+        "tour" => Some(super::tour::tour),
         _ => None,
     }
 }

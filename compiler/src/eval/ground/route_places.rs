@@ -20,6 +20,7 @@ pub(super) fn lookup(row: &Builtin) -> Option<GroundFn> {
         "first_entered" => Some(first_entered),
         "kth_entered" => Some(kth_entered),
         "visited" => Some(visited),
+        "left_behind" => Some(left_behind),
         _ => None,
     }
 }
@@ -81,19 +82,37 @@ fn kth_entered(g: &mut Grounder, c: Call) -> Value {
 
 fn visited(g: &mut Grounder, c: Call) -> Value {
     let rooms = g.visited_rooms();
+    bind_rooms(g, &c, rooms)
+}
+
+/// Records a set of rooms read off the route as the call's binding, and returns it.
+fn bind_rooms(g: &mut Grounder, c: &Call, rooms: Vec<u32>) -> Value {
     let labels: Vec<String> = rooms
         .iter()
         .map(|&r| PlaceVal::Room(r).label(g.q))
         .collect();
-    g.bind(c.e, "visited", labels.join(", "));
+    g.bind(c.e, c.name(), labels.join(", "));
     Value::Set(rooms.into_iter().map(PlaceVal::Room).collect())
 }
 
+/// `visited()` without the room the stage starts in: `avoid left_behind()` is "without going
+/// back through a room you have already crossed".
+fn left_behind(g: &mut Grounder, c: Call) -> Value {
+    let (rooms, current) = g.visited_rooms_and_current();
+    let rooms: Vec<u32> = rooms.into_iter().filter(|&r| Some(r) != current).collect();
+    bind_rooms(g, &c, rooms)
+}
+
 impl Grounder<'_, '_> {
+    fn visited_rooms(&mut self) -> Vec<u32> {
+        self.visited_rooms_and_current().0
+    }
+
     /// The rooms the route has been in before the current stage starts, in order: off the
     /// planned route up to its arrival at each earlier destination in turn, else off the
-    /// shortest paths between the earlier destinations.
-    fn visited_rooms(&mut self) -> Vec<u32> {
+    /// shortest paths between the earlier destinations; and the room the stage starts in (the
+    /// last room of that path, or the start's).
+    fn visited_rooms_and_current(&mut self) -> (Vec<u32>, Option<u32>) {
         let mut path: Vec<Cell> = Vec::new();
         let mut from = self.start.clone();
         let mut pos = 0;
@@ -123,12 +142,17 @@ impl Grounder<'_, '_> {
             .room_of(self.start.target(self.q))
             .into_iter()
             .collect();
-        for v in m2rc_stdlib::query::room_visits(self.q, &path) {
+        let visits = m2rc_stdlib::query::room_visits(self.q, &path);
+        let current = visits
+            .last()
+            .map(|v| v.room)
+            .or_else(|| out.first().copied());
+        for v in visits {
             if !out.contains(&v.room) {
                 out.push(v.room);
             }
         }
-        out
+        (out, current)
     }
 
     pub(in crate::eval) fn bind(&mut self, e: &Expr, function: &str, resolved: String) {
