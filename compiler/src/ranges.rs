@@ -52,34 +52,29 @@ impl Checker<'_> {
                         p.name
                     )),
                 );
-            } else if p.ty.contains(&Ty::Is(Type::Int))
-                && p.name == "k"
-                && v < 1.0
-                && b.name == "tour"
-            {
-                self.report(
+            } else if p.ty.contains(&Ty::Is(Type::Int)) && p.name == "k" && v < 1.0 {
+                // `tour(k)` counts rooms; every other `k` is a position.
+                let d = if b.name == "tour" {
                     Diagnostic::new(
                         Code::ArgumentOutOfRange,
                         arg.value.span,
                         format!("`k` of `tour` is how many rooms to pass, at least 1, found `{text}`"),
                     )
-                    .help("give the number of rooms the instruction names, e.g. `tour(2)` for \"two bedrooms\""),
-                );
-            } else if p.ty.contains(&Ty::Is(Type::Int)) && p.name == "k" && v < 1.0 {
-                let far = b.name.contains("farthest");
-                self.report(
+                    .help("give the number of rooms the instruction names, e.g. `tour(2)` for \"two bedrooms\"")
+                } else {
                     Diagnostic::new(
                         Code::ArgumentOutOfRange,
                         arg.value.span,
                         format!("`k` of `{}` counts from 1, found `{text}`", b.name),
                     )
-                    .note(if far {
+                    .note(if b.name.contains("farthest") {
                         "k = 1 is the farthest, k = 2 the second farthest"
                     } else {
                         "k = 1 is the first, k = 2 the second"
                     })
-                    .help("give the position the instruction names: `1` for the first"),
-                );
+                    .help("give the position the instruction names: `1` for the first")
+                };
+                self.report(d);
             }
         }
     }

@@ -227,15 +227,9 @@ impl Checker<'_> {
             .note(format!("signature: `{}`", b.signature(None)));
             // `objects` -> `objects()` only where the call's result fits: otherwise the fix would
             // trade this error for another (a set where one place is expected).
-            let result_fits = b
-                .ret
-                .instantiate(Elem::Place)
-                .is_none_or(|t| slot.accepts(t));
-            if !result_fits {
-                d = d.help(format!(
-                    "`{name}()` gives a `{}`, which does not fit here",
-                    b.ret.instantiate(Elem::Place).unwrap_or(Type::Error)
-                ));
+            let result = b.ret.instantiate(Elem::Place);
+            if let Some(t) = result.filter(|&t| !slot.accepts(t)) {
+                d = d.help(format!("`{name}()` gives a `{t}`, which does not fit here"));
             } else if b
                 .params
                 .iter()
