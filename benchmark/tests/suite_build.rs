@@ -150,3 +150,54 @@ fn loops_lie_in_their_region_and_object_avoids_spare_the_goals() {
         "{loops} loops, {object_avoids} object-area avoids"
     );
 }
+
+/// Destinations that are not objects: "the other one" of a pair, a doorway between two rooms and
+/// the way back to the start. Each is validated like any episode (the oracle compiles and plans
+/// the gold program and must score HCS = 1), and its must-pass region is what the program says:
+/// the way back ends in the start region, a doorway is the passage's cells.
+#[test]
+fn other_ones_doorways_and_returns_are_annotated_as_their_programs_say() {
+    let dir = tempfile::tempdir().unwrap();
+    let houses = shared().join("houses/procthor10k_uniform_hard_val_150.jsonl.gz");
+    let config = SuiteConfig {
+        scenes: 3,
+        episodes_per_scene: 12,
+        hard_fraction: 0.6,
+        ..small_config()
+    };
+    let m = build_suite(
+        &houses,
+        &config,
+        &tools(&["oracle", "shortest"]),
+        dir.path(),
+        &|_, _| {},
+    )
+    .unwrap();
+    let (mut others, mut doorways, mut returns) = (0, 0, 0);
+    for e in &m.episodes {
+        let text = std::fs::read_to_string(dir.path().join(&e.file)).unwrap();
+        let ep: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let program = ep["m2rc_gold_program"].as_str().unwrap();
+        let hard = ep["hard_constraints"].as_array().unwrap();
+        let passes: Vec<&serde_json::Value> =
+            hard.iter().filter(|h| h["kind"] == "must_pass").collect();
+        others += program.matches(".except(t").count();
+        doorways += program.matches("doorways_between(").count();
+        if program.contains("\n  go start") {
+            returns += 1;
+            let last = passes.last().unwrap();
+            assert_eq!(last["cells"], passes[0]["cells"], "{}", e.file);
+            let said = ep["instruction"].as_str().unwrap();
+            assert!(
+                said.contains("start") || said.contains("began"),
+                "{}: {said}",
+                e.file
+            );
+        }
+    }
+    eprintln!("{others} other-ones, {doorways} doorways, {returns} returns");
+    assert!(
+        others + doorways + returns > 0,
+        "{others} other-ones, {doorways} doorways, {returns} returns"
+    );
+}

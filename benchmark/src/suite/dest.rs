@@ -18,6 +18,11 @@ const MIN_TARGET_SPACING: f64 = 40.0;
 const SPREAD: usize = 5;
 /// A category with a single instance is accepted as a destination this often.
 const UNIQUE_ACCEPT: f64 = 0.2;
+/// The last destination of a route with two or more is the start again this often ("visit the
+/// kitchen and then return to the starting point").
+const RETURN_P: f64 = 0.12;
+/// A destination is "the other one" of an earlier destination's pair this often, when it can be.
+const OTHER_P: f64 = 0.15;
 /// A ranked corner must win by this factor.
 const CORNER_MARGIN: f64 = 1.25;
 
@@ -36,7 +41,33 @@ impl<'a> Scene<'a> {
         let mut prev: [f64; 2] = [start.row as f64, start.col as f64];
         let mut prev_room = ix.room_at(start);
         let start_i = ix.free.index(start);
+        let start_room = prev_room;
         for k in 0..n {
+            if k >= 1
+                && k + 1 == n
+                && prev_room != start_room
+                && (prev[0] - start.row as f64).hypot(prev[1] - start.col as f64)
+                    > MIN_TARGET_SPACING
+                && rng.random_bool(RETURN_P)
+                && let Some(stage) = self.region_stage(
+                    &super::generate::disc(start, super::generate::START_RADIUS),
+                    start_room,
+                    Dest::Return,
+                    vec![],
+                )
+            {
+                stages.push(stage);
+                break;
+            }
+            if k >= 1
+                && rng.random_bool(OTHER_P)
+                && let Some(stage) = self.other_of_pair(&stages, prev, prev_room)
+            {
+                prev = stage.center;
+                prev_room = stage.room;
+                stages.push(stage);
+                continue;
+            }
             let mut cands: Vec<u32> = Vec::new();
             for _ in 0..40 {
                 let t = *pool.choose(rng)?;
@@ -74,6 +105,8 @@ impl<'a> Scene<'a> {
                 self.corner(rng, t)
             } else if roll < 0.17 {
                 self.between(rng, t)
+            } else if roll < 0.23 {
+                self.doorway(rng, t)
             } else {
                 None
             }
@@ -200,6 +233,69 @@ impl<'a> Scene<'a> {
             },
             vec![t],
         )
+    }
+
+    /// The other member of a pair an earlier destination belongs to (the house has exactly two
+    /// of its category), when it is a fit next destination: a target, in another room than the
+    /// previous stop, and not next to it.
+    fn other_of_pair(&self, stages: &[Stage], prev: [f64; 2], prev_room: u32) -> Option<Stage> {
+        let ix = &self.ix;
+        stages.iter().enumerate().find_map(|(first, s)| {
+            let Dest::Object { id, .. } = &s.dest else {
+                return None;
+            };
+            let cat = &ix.object(*id).category;
+            let [a, b] = ix.all_of_cat(cat) else {
+                return None;
+            };
+            let other = if a == id { *b } else { *a };
+            let (center, _, _) = self.targets.get(&other)?;
+            if ix.object(other).room == Some(prev_room)
+                || stages.iter().any(|s| s.anchor_objects.contains(&other))
+                || (prev[0] - center[0]).hypot(prev[1] - center[1]) <= MIN_TARGET_SPACING
+            {
+                return None;
+            }
+            self.object_stage(
+                other,
+                Dest::Other {
+                    id: other,
+                    cat: cat.clone(),
+                    first,
+                },
+            )
+        })
+    }
+
+    /// "The doorway between the kitchen and the hall": a door of `t`'s room that is the only
+    /// passage to the room behind it, both rooms nameable and of different categories (no two
+    /// rooms of one category in one phrase).
+    fn doorway(&self, rng: &mut ChaCha8Rng, t: u32) -> Option<Stage> {
+        let ix = &self.ix;
+        let room = ix.object(t).room?;
+        let mut doors: Vec<&m2rc_stdlib::query::Passage> = self
+            .q
+            .doorways(room)
+            .into_iter()
+            .filter(|p| p.kind == m2rc_stdlib::query::PassageKind::Door)
+            .filter(|p| self.q.doorways_between(p.rooms.0, p.rooms.1).len() == 1)
+            .filter(|p| {
+                ix.room_category(p.rooms.0) != ix.room_category(p.rooms.1)
+                    && p.rooms.0 != 0
+                    && p.rooms.1 != 0
+            })
+            .collect();
+        doors.shuffle(rng);
+        let door = doors.first()?;
+        let other = if door.rooms.0 == room {
+            door.rooms.1
+        } else {
+            door.rooms.0
+        };
+        let a = room_descriptions(ix, room, 1).choose(rng).cloned()?;
+        let b = room_descriptions(ix, other, 1).choose(rng).cloned()?;
+        let home = self.q.room_of(Target::Cells(&door.cells))?;
+        self.region_stage(&door.cells, home, Dest::Doorway { a, b }, vec![])
     }
 
     /// "The small area between the counter and the fridge" (`area_between`).

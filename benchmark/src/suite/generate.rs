@@ -152,14 +152,15 @@ fn soft_count(rng: &mut ChaCha8Rng, d: Difficulty) -> usize {
 }
 
 /// Preference kinds, tried in a weighted order (near, far, relative, path shape). The weights are
-/// not the paper's mix itself (Easy 284 / 288 / 126 / 89, Hard 274 / 303 / 98 / 133): far and path
-/// shapes can be placed less often than near ones (a far subject must be passed closely, a shape
-/// needs a free ring or the start room), and a kind that cannot be placed falls through to the
-/// next, so they are tried first more often for the placed mix to come out near the paper's.
+/// not the paper's mix itself (Easy 284 / 288 / 126 / 89, Hard 274 / 303 / 98 / 133): a near
+/// preference is placed far less often than the others (its witness must gain a metre with a
+/// detour of at most a metre), a far one most often, and a kind that cannot be placed falls
+/// through to the next, so near is tried first most of the time for the placed mix to come out
+/// as near the paper's as the houses allow.
 fn soft_kinds(rng: &mut ChaCha8Rng, d: Difficulty) -> Vec<&'static str> {
     let w: [f64; 4] = match d {
-        Difficulty::Easy => [170.0, 560.0, 105.0, 200.0],
-        Difficulty::Hard => [165.0, 520.0, 72.0, 260.0],
+        Difficulty::Easy => [1000.0, 420.0, 420.0, 50.0],
+        Difficulty::Hard => [900.0, 420.0, 260.0, 260.0],
     };
     let kinds = ["near", "far", "relative", "path_shape"];
     // Efraimidis-Spirakis: sorting by u^(1/w) draws a weighted order without replacement.

@@ -106,6 +106,16 @@ impl<'a> MapIndex<'a> {
             .unwrap_or(&[])
     }
 
+    /// How many objects of any of `cats` the map has, structural ones (walls, doorways)
+    /// included.
+    pub fn count_any(&self, cats: &[&str]) -> usize {
+        self.map
+            .objects
+            .iter()
+            .filter(|o| cats.contains(&o.category.as_str()))
+            .count()
+    }
+
     /// Objects of `cat`, fixtures included: what `objects(cat)` means to the compiler.
     pub fn all_of_cat(&self, cat: &str) -> &[u32] {
         match self.fixtures_by_cat.get(cat) {

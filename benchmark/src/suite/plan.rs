@@ -32,6 +32,15 @@ pub enum Dest {
     /// The small area between two objects ("the area between the counter and the fridge":
     /// `area_between(a, b)`).
     Between { a: ObjRef, b: ObjRef },
+    /// The doorway between two rooms ("the doorway between the kitchen and the hall":
+    /// `doorways_between(a, b).only()`), where exactly one passage joins them.
+    Doorway { a: RoomRef, b: RoomRef },
+    /// The second of a pair: "the other sofa", "the other one" (`objects(sofa).except(t1).only()`)
+    /// when the house has exactly two and an earlier destination (stage `first`) was one of them.
+    Other { id: u32, cat: String, first: usize },
+    /// Back to where the route began ("then return to your starting point": `go start`); only
+    /// ever the last destination, so its leg is "the way back".
+    Return,
 }
 
 /// A stage of the episode.
@@ -146,6 +155,9 @@ pub struct SoftPlan {
     pub room: u32,
     pub scope: RoomScope,
     pub region: Vec<usize>,
+    /// A near preference said of passing the subject ("stay close to the lamp as you pass it"):
+    /// R is the floor of the scope room within [`super::place::near::PASSING_WITHIN_M`] of it.
+    pub passing: bool,
 }
 
 impl SoftPlan {

@@ -23,6 +23,9 @@ pub struct Speaker<'r> {
     pub room_back: BTreeMap<u32, usize>,
     /// Template ids used, in order.
     pub templates: Vec<String>,
+    /// The room a clause is already scoped to ("in this lounge, ..."): descriptions inside the
+    /// clause leave it out rather than name it a second time.
+    pub implied_room: Option<u32>,
 }
 
 impl<'r> Speaker<'r> {
@@ -32,7 +35,14 @@ impl<'r> Speaker<'r> {
             room_full: BTreeMap::new(),
             room_back: BTreeMap::new(),
             templates: Vec::new(),
+            implied_room: None,
         }
+    }
+
+    /// Whether `r` is the room the current clause is scoped to, so that naming it is redundant.
+    pub fn is_implied(&self, ix: &MapIndex<'_>, r: &RoomRef) -> bool {
+        self.implied_room
+            .is_some_and(|id| r.resolve(ix).as_slice() == [id])
     }
 
     pub fn noun(&mut self, cat: &str) -> String {
@@ -211,6 +221,20 @@ pub fn near(sp: &mut Speaker<'_>, x: &str) -> String {
     fill(t, &[("x", x)])
 }
 
+/// A near preference said of passing its subject (R is the floor around it).
+pub fn near_passing(sp: &mut Speaker<'_>, x: &str) -> String {
+    let t = sp.pick(
+        "near.passing",
+        &[
+            "stay close to {x} as you pass it",
+            "keep near {x} as you go by it",
+            "when you pass {x}, keep close to it",
+            "pass right by {x}",
+        ],
+    );
+    fill(t, &[("x", x)])
+}
+
 pub fn far(sp: &mut Speaker<'_>, x: &str) -> String {
     let t = sp.pick(
         "far",
@@ -293,6 +317,29 @@ pub fn leg(sp: &mut Speaker<'_>, dest: &str) -> String {
         ],
     );
     fill(t, &[("t", dest)])
+}
+
+/// The last destination when it is the start again.
+pub fn return_to_start(sp: &mut Speaker<'_>) -> String {
+    let t = sp.pick(
+        "dest.back",
+        &[
+            "then return to the starting point",
+            "finally, come back to where you started",
+            "after that, head back to your starting position",
+            "and then return to where you began",
+        ],
+    );
+    sentence(t)
+}
+
+/// The leg phrase of the way back to the start.
+pub fn leg_back(sp: &mut Speaker<'_>) -> String {
+    sp.pick(
+        "leg.back",
+        &["on your way back", "as you head back", "on the way back"],
+    )
+    .to_string()
 }
 
 /// A must-avoid sentence: for the whole route (`global`) or for one leg (`leg` phrase).

@@ -325,6 +325,9 @@ impl ObjRef {
     pub fn text(&self, ix: &MapIndex<'_>, sp: &mut Speaker<'_>) -> String {
         match self {
             ObjRef::Unique { cat } => format!("the {}", sp.noun(cat)),
+            ObjRef::InRoom { cat, room } if sp.is_implied(ix, room) => {
+                format!("the {}", sp.noun(cat))
+            }
             ObjRef::InRoom { cat, room } => {
                 let n = sp.noun(cat);
                 let prep = ["in", "in", "inside"]
@@ -351,7 +354,7 @@ impl ObjRef {
                     .unwrap_or("nearest to");
                 let rel = if rel == "nearest the" { "nearest" } else { rel };
                 let a = anchor.text(ix, sp);
-                match room {
+                match room.as_ref().filter(|r| !sp.is_implied(ix, r)) {
                     Some(room) => {
                         let r = sp.room(ix, room);
                         if sp.rng.random_bool(0.5) {
@@ -383,6 +386,8 @@ impl ObjRef {
                     ]
                 };
                 let rel = rel.choose(sp.rng).copied().unwrap_or(rel[0]);
+                // Kept even inside a scoped clause: "the chair closest to you" alone would be
+                // read house-wide.
                 match room {
                     Some(room) => {
                         let r = sp.room(ix, room);
@@ -395,7 +400,7 @@ impl ObjRef {
                 let n = sp.noun(cat);
                 let o = sp.noun(other);
                 let art = lexicon::article(&o);
-                let tail = match room {
+                let tail = match room.as_ref().filter(|r| !sp.is_implied(ix, r)) {
                     Some(room) => format!(" in {}", sp.room(ix, room)),
                     None => String::new(),
                 };
@@ -736,47 +741,4 @@ pub fn pick_description(descs: &[ObjRef], want: u32, rng: &mut ChaCha8Rng) -> Op
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn circular_and_stacked_chains_are_unnatural() {
-        let bedroom = |adj: &str| match adj {
-            "l" => RoomRef::Largest {
-                cat: "living_room".into(),
-            },
-            _ => RoomRef::Smallest {
-                cat: "living_room".into(),
-            },
-        };
-        let stacked = ObjRef::Nearest {
-            cat: "chair".into(),
-            room: Some(bedroom("s")),
-            anchor: Box::new(ObjRef::InRoom {
-                cat: "sofa".into(),
-                room: bedroom("l"),
-            }),
-        };
-        assert!(!stacked.is_natural());
-        let circular = ObjRef::Nearest {
-            cat: "sink".into(),
-            room: None,
-            anchor: Box::new(ObjRef::Nearest {
-                cat: "toilet".into(),
-                room: None,
-                anchor: Box::new(ObjRef::Unique { cat: "sink".into() }),
-            }),
-        };
-        assert!(!circular.is_natural());
-        let fine = ObjRef::Nearest {
-            cat: "chair".into(),
-            room: Some(bedroom("l")),
-            anchor: Box::new(ObjRef::Unique { cat: "sofa".into() }),
-        };
-        assert!(fine.is_natural());
-        assert_eq!(
-            fine.m2r(),
-            "objects(chair).in(rooms(living_room).largest()).nearest(to: objects(sofa).only())"
-        );
-    }
-}
+mod tests;

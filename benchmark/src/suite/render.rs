@@ -22,6 +22,8 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
 
+mod dest;
+
 /// What rendering accumulates.
 struct Out {
     sentences: Vec<String>,
@@ -73,6 +75,21 @@ impl Out {
             object_categories: vec![],
             room_categories: vec![r.category().to_string()],
             superlative_over: r.superlative_over(ix).into_iter().collect(),
+        });
+    }
+
+    /// A reference to a part of the building (corners, walls, doorways): `candidates` is how many
+    /// the house has, what a reader chooses among before the rest of the phrase narrows it.
+    fn stat_structure(&mut self, role: &str, what: &str, candidates: usize, text: &str) {
+        self.refs.push(RefStat {
+            role: role.to_string(),
+            expression: text.to_string(),
+            category: what.to_string(),
+            depth: 2,
+            candidates,
+            object_categories: vec![],
+            room_categories: vec![],
+            superlative_over: vec![],
         });
     }
 
@@ -137,13 +154,20 @@ impl<'a> Scene<'a> {
         let mut skip_dest_sentence = vec![false; n];
         for (k, stage) in stages.iter().enumerate() {
             let order = k as u32 + 2;
-            let var = format!("t{}", k + 1);
+            let back = matches!(stage.dest, Dest::Return);
+            let var = if back {
+                "start".to_string()
+            } else {
+                format!("t{}", k + 1)
+            };
             if dests[k].is_none() {
                 dests[k] = Some(self.dest_text(&mut sp, &mut out, k, stage));
             }
             let (text, m2r, short) = dests[k].clone().unwrap_or_default();
             let (text, m2r, short) = (&text, &m2r, &short);
-            out.lets.push(format!("let {var} = {m2r}"));
+            if !back {
+                out.lets.push(format!("let {var} = {m2r}"));
+            }
             if !skip_dest_sentence[k] {
                 let pos = match (n, k) {
                     (1, _) => Position::Only,
@@ -166,6 +190,8 @@ impl<'a> Scene<'a> {
                     s
                 } else if matches!(stage.dest, Dest::Conditional { .. }) {
                     text.clone()
+                } else if back {
+                    realise::return_to_start(&mut sp)
                 } else {
                     realise::destination(&mut sp, pos, text)
                 };
@@ -178,7 +204,9 @@ impl<'a> Scene<'a> {
             }
             let (center, radius) = (stage.center, stage.radius);
             let target_id = match &stage.dest {
-                Dest::Object { id, .. } | Dest::Conditional { id, .. } => json!(id),
+                Dest::Object { id, .. } | Dest::Conditional { id, .. } | Dest::Other { id, .. } => {
+                    json!(id)
+                }
                 _ => Value::Null,
             };
             out.hard.push(json!({
@@ -188,14 +216,17 @@ impl<'a> Scene<'a> {
                 "object_id": target_id, "scope": global_scope(), "label": text,
                 "cells": cells_json(ix, &stage.goal),
             }));
-            let first = stage.anchor_objects[0];
-            let o = ix.object(first);
-            objects_json.push(json!({
-                "order": k + 1, "object_id": first, "name": o.name, "category": o.category,
-                "center": [round3(center[0]), round3(center[1])],
-            }));
+            if let Some(&first) = stage.anchor_objects.first() {
+                let o = ix.object(first);
+                objects_json.push(json!({
+                    "order": k + 1, "object_id": first, "name": o.name, "category": o.category,
+                    "center": [round3(center[0]), round3(center[1])],
+                }));
+            }
             let leg_phrase = |sp: &mut Speaker<'_>| {
-                if n > 1 {
+                if back {
+                    realise::leg_back(sp)
+                } else if n > 1 {
                     realise::leg(sp, short)
                 } else {
                     sp.pick(
@@ -261,88 +292,6 @@ impl<'a> Scene<'a> {
         )
     }
 
-    /// (text, program expression, short anaphoric name) of a destination.
-    fn dest_text(
-        &self,
-        sp: &mut Speaker<'_>,
-        out: &mut Out,
-        k: usize,
-        stage: &Stage,
-    ) -> (String, String, String) {
-        let ix = &self.ix;
-        let role = format!("destination {}", k + 1);
-        match &stage.dest {
-            Dest::Object { id, desc } => {
-                let t = desc.text(ix, sp);
-                out.stat(ix, &role, desc, &t);
-                let short = format!("the {}", lexicon::plain(&ix.object(*id).category));
-                (t, desc.m2r(), short)
-            }
-            Dest::Conditional {
-                id,
-                room,
-                cond_cat,
-                holds,
-                then_desc,
-                else_desc,
-            } => {
-                let r = sp.room(ix, room);
-                out.stat_room(ix, &role, room, &r);
-                let thing = lexicon::plain(cond_cat);
-                let other_cat = else_desc.category();
-                let other = format!(
-                    "the {} {}",
-                    sp.noun(other_cat),
-                    sp.pick("if.there", &["there", "in that room", "instead"])
-                );
-                let live = if *holds { then_desc } else { else_desc };
-                out.stat(ix, &role, live, &format!("the {}", live.category()));
-                let s = realise::conditional(sp, &r, &thing, &other);
-                let m2r = format!(
-                    "if objects({cond_cat}).in({}).exists() {{ {} }} else {{ {} }}",
-                    room.m2r(),
-                    then_desc.m2r(),
-                    else_desc.m2r()
-                );
-                let short = format!("the {}", lexicon::plain(&ix.object(*id).category));
-                (s, m2r, short)
-            }
-            Dest::Corner {
-                room,
-                room_ref,
-                anchor,
-            } => {
-                let r = sp.room_id(ix, *room, Some(room_ref));
-                out.stat_room(ix, &role, room_ref, &r);
-                let a = anchor.text(ix, sp);
-                out.stat(ix, &role, anchor, &a);
-                let rel = sp.pick("corner", &["nearest to", "closest to", "next to"]);
-                let t = format!("the corner of {r} {rel} {a}");
-                let m2r = format!("{}.corners().nearest(to: {})", room_ref.m2r(), anchor.m2r());
-                (t, m2r, "that corner".into())
-            }
-            Dest::Between { a, b } => {
-                let ta = a.text(ix, sp);
-                let tb = b.text(ix, sp);
-                out.stat(ix, &role, a, &ta);
-                out.stat(ix, &role, b, &tb);
-                let form = sp.pick(
-                    "between",
-                    &[
-                        "the small area between {a} and {b}",
-                        "the spot between {a} and {b}",
-                    ],
-                );
-                let t = realise::fill(form, &[("a", &ta), ("b", &tb)]);
-                (
-                    t,
-                    format!("area_between({}, {})", a.m2r(), b.m2r()),
-                    "that spot".into(),
-                )
-            }
-        }
-    }
-
     /// (text, program, kind) of a must-avoid's place.
     fn avoid_text(
         &self,
@@ -390,7 +339,9 @@ impl<'a> Scene<'a> {
     ) -> (String, String) {
         let ix = &self.ix;
         let dest_room = |sp: &mut Speaker<'_>| {
-            if sp.knows_room(soft.room) {
+            if var == "start" {
+                "the room you started in".to_string()
+            } else if sp.knows_room(soft.room) {
                 sp.room_id(ix, soft.room, None)
             } else {
                 let t = sp.pick("room.of", &["the room with {d}", "the room where {d} is"]);
@@ -560,6 +511,15 @@ impl<'a> Scene<'a> {
                     "follow_wall",
                 ),
             };
+            // A patrol or wall loop names the room's walls, and a patrol the doorway it ends at.
+            for (word, what, count) in [
+                ("wall", "wall", ix.count_any(&["wall"])),
+                ("door", "doorway", ix.count_any(&["doorway", "doorframe"])),
+            ] {
+                if kind != "circle" && text.contains(word) && count > 0 {
+                    out.stat_structure(&role, what, count, &text);
+                }
+            }
             c["reference_waypoint_count"] = json!(ring.len());
             c["reference_trajectory"] = json!(ring.clone());
             c["path_shape_annotation"] = json!({
@@ -574,16 +534,17 @@ impl<'a> Scene<'a> {
             return (c, line);
         }
         let (s_m2r, s_text) = self.scope(sp, out, soft, var, short);
+        sp.implied_room = Some(soft.room);
         let (kind, pref_text, pref_m2r, ids): (&str, String, String, Vec<Vec<u32>>) =
             match &soft.pref {
                 Pref::Near(x) => {
                     let (t, m) = self.subject_text(sp, out, x, &s_m2r, &role);
-                    (
-                        "near_preference",
-                        realise::near(sp, &t),
-                        format!("near({m})"),
-                        vec![x.ids()],
-                    )
+                    let said = if soft.passing {
+                        realise::near_passing(sp, &t)
+                    } else {
+                        realise::near(sp, &t)
+                    };
+                    ("near_preference", said, format!("near({m})"), vec![x.ids()])
                 }
                 Pref::Far(x) => {
                     let (t, m) = self.subject_text(sp, out, x, &s_m2r, &role);
@@ -606,6 +567,7 @@ impl<'a> Scene<'a> {
                 }
                 Pref::Shape(_) => unreachable!("handled above"),
             };
+        sp.implied_room = None;
         let mut c = soft_base(no, kind, stage_scope(order), &label, ix, &soft.region);
         if let [one] = ids.as_slice() {
             c["object_ids"] = json!(one);

@@ -73,6 +73,7 @@ impl<'a> Scene<'a> {
                 room: scope.room,
                 scope: scope.scope.clone(),
                 region: ix.room_free_cells(scope.room),
+                passing: false,
             });
         }
         None

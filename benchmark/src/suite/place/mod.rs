@@ -58,6 +58,9 @@ pub struct LegCtx<'s> {
     pub grid: m2rc_stdlib::grid::Grid<bool>,
     /// Built on first use (only detours need it).
     pub to_goal: std::cell::OnceCell<m2rc_stdlib::query::TravelField>,
+    /// The legal travel distance from the leg's start, built on first use: with `to_goal` it
+    /// gives every cell's detour (from → cell → goal, minus from → goal) without a search.
+    pub from_start: std::cell::OnceCell<m2rc_stdlib::query::TravelField>,
     /// Cells within [`KEEP_OFF_GOAL_M`] of the goal region or of the leg's start.
     pub keep_off: Vec<bool>,
 }
@@ -99,6 +102,7 @@ impl<'a> Scene<'a> {
             goal_mask,
             grid,
             to_goal,
+            from_start: std::cell::OnceCell::new(),
             keep_off,
         }
     }
@@ -224,19 +228,45 @@ impl<'a> Scene<'a> {
         route
     }
 
-    /// A legal witness route of the leg through any cell of `via`, then on to the goal.
-    pub(crate) fn detour_via(&self, leg: &LegCtx<'_>, via: &[bool]) -> Option<Vec<Cell>> {
-        let (mut first, _) = leg.mask.shortest_to(leg.view.from, via)?;
-        let mid = *first.last()?;
+    /// The shortest legal witness route of the leg through a cell of `via` (from the leg's start
+    /// to that cell, then on to the goal), with its detour: how much longer it is than the leg's
+    /// shortest legal route, m. A preference whose witness needs a long detour is one a person
+    /// would not ask for in passing ("keep near the lamp" of a lamp across the room), and one no
+    /// route-length-aware planner would take.
+    pub(crate) fn detour_via(
+        &self,
+        leg: &LegCtx<'_>,
+        via: &[bool],
+        max_detour_m: f64,
+    ) -> Option<Vec<Cell>> {
+        let ix = &self.ix;
+        let res = ix.resolution();
         let to_goal = leg.to_goal.get_or_init(|| {
-            let ix = &self.ix;
             let goal: Vec<Cell> = leg.stage.goal.iter().map(|&i| ix.cell(i)).collect();
-            m2rc_stdlib::query::TravelField::new(&leg.grid, &goal, ix.resolution())
+            m2rc_stdlib::query::TravelField::new(&leg.grid, &goal, res)
         });
+        let from = leg
+            .from_start
+            .get_or_init(|| m2rc_stdlib::query::TravelField::new(&leg.grid, &[leg.view.from], res));
+        // The via cell with the shortest route through it (the lowest index on ties).
+        let (walk, mid) = via
+            .iter()
+            .enumerate()
+            .filter(|&(_, &v)| v)
+            .map(|(i, _)| {
+                let c = ix.cell(i);
+                (from.cells_to(c) + to_goal.cells_to(c), c)
+            })
+            .filter(|(d, _)| d.is_finite())
+            .min_by(|a, b| a.0.total_cmp(&b.0))?;
+        if (walk - to_goal.cells_to(leg.view.from)) * res > max_detour_m {
+            return None;
+        }
+        let mut route = from.path_to(&leg.grid, mid)?;
         let mut second = to_goal.path_to(&leg.grid, mid)?;
         second.reverse();
-        first.extend(second.into_iter().skip(1));
-        Some(self.scored(leg, first))
+        route.extend(second.into_iter().skip(1));
+        Some(self.scored(leg, route))
     }
 
     /// Free cells (of `room` when given), legal on the leg, whose distance to the footprint of
@@ -298,6 +328,7 @@ fn stage_cats(stage: &Stage) -> HashSet<String> {
         } => vec![then_desc, else_desc],
         Dest::Corner { anchor, .. } => vec![anchor],
         Dest::Between { a, b } => vec![a, b],
+        Dest::Return | Dest::Doorway { .. } | Dest::Other { .. } => vec![],
     };
     descs
         .into_iter()

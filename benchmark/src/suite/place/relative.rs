@@ -1,10 +1,11 @@
 //! Relative preferences ("stay closer to A than to B"): two objects of the room, drawn
-//! uniformly (no bias toward pairs the reference route gets wrong), both off the unavoidable
-//! path (neither by the destination nor by the leg's start), at least 2 m apart.
+//! uniformly, both off the unavoidable path (neither by the destination nor by the leg's start),
+//! at least 2 m apart, and ordered so that the reference route is not already well on A's side.
 //!
-//! Witness: the shortest legal route of the leg through the free floor 0.3–0.7 m from A. Kept
+//! Witness: the shortest legal route of the leg through the free floor [`BAND_M`] from A. Kept
 //! when the witness's D_B/D_A over its scored waypoints in R beats the reference route's by
-//! [`RELATIVE_MIN_GAIN`] and by a quarter.
+//! [`RELATIVE_MIN_GAIN`] and by a quarter, with a detour of at most [`RELATIVE_MAX_DETOUR_M`],
+//! and only when the reference route's ratio is at most [`RELATIVE_MAX_SHORTEST`].
 
 use super::{LegCtx, ScopeRoom, in_room, mean_distance};
 use crate::suite::generate::Scene;
@@ -12,9 +13,15 @@ use crate::suite::plan::{Pref, SoftPlan};
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 
-pub const RELATIVE_MIN_GAIN: f64 = 0.3;
+pub const RELATIVE_MIN_GAIN: f64 = 0.5;
+/// The reference route's D_B/D_A may be at most this: a pair the shortest route already keeps
+/// well to A's side is met by construction, not by following the preference.
+pub const RELATIVE_MAX_SHORTEST: f64 = 1.5;
 const MIN_SPACING_M: f64 = 2.0;
-const TRIES: usize = 6;
+/// The witness may be at most this much longer than the leg's shortest legal route, m.
+pub const RELATIVE_MAX_DETOUR_M: f64 = 1.0;
+use super::near::BAND_M;
+const TRIES: usize = 16;
 
 impl<'a> Scene<'a> {
     pub(crate) fn place_relative(
@@ -41,7 +48,23 @@ impl<'a> Scene<'a> {
             }
         }
         pairs.shuffle(rng);
-        for (a, b) in pairs.into_iter().take(TRIES) {
+        let mut tries = 0;
+        for (a, b) in pairs {
+            // The pair is drawn uniformly; its order is chosen so the shortest route is not
+            // already well on the preferred object's side.
+            let (a, b) = {
+                let (fa, fb) = (
+                    ix.object(a).footprint.as_slice(),
+                    ix.object(b).footprint.as_slice(),
+                );
+                let da = mean_distance(&scope.window, &[fa]);
+                let db = mean_distance(&scope.window, &[fb]);
+                if db > RELATIVE_MAX_SHORTEST * da {
+                    (b, a)
+                } else {
+                    (a, b)
+                }
+            };
             let (fa, fb) = (
                 ix.object(a).footprint.as_slice(),
                 ix.object(b).footprint.as_slice(),
@@ -54,11 +77,18 @@ impl<'a> Scene<'a> {
             let Some(r_ref) = ratio(&scope.window) else {
                 continue;
             };
-            let via = self.band(leg, &[a], Some(scope.room), 0.3, 0.7);
+            if r_ref > RELATIVE_MAX_SHORTEST {
+                continue;
+            }
+            tries += 1;
+            if tries > TRIES {
+                break;
+            }
+            let via = self.band(leg, &[a], Some(scope.room), BAND_M.0, BAND_M.1);
             if !via.iter().any(|&x| x) {
                 continue;
             }
-            let Some(witness) = self.detour_via(leg, &via) else {
+            let Some(witness) = self.detour_via(leg, &via, RELATIVE_MAX_DETOUR_M) else {
                 continue;
             };
             let Some(r_wit) = ratio(&in_room(ix, &witness, scope.room)) else {
@@ -76,6 +106,7 @@ impl<'a> Scene<'a> {
                     room: scope.room,
                     scope: scope.scope.clone(),
                     region: ix.room_free_cells(scope.room),
+                    passing: false,
                 });
             }
         }

@@ -129,6 +129,7 @@ impl<'a> Scene<'a> {
                 room: scope.room,
                 scope: scope.scope.clone(),
                 region: Vec::new(),
+                passing: false,
             });
         }
         None
@@ -192,6 +193,7 @@ impl<'a> Scene<'a> {
             room,
             scope: RoomScope::Start,
             region: Vec::new(),
+            passing: false,
         })
     }
 
