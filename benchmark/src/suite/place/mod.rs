@@ -229,10 +229,10 @@ impl<'a> Scene<'a> {
     }
 
     /// The shortest legal witness route of the leg through a cell of `via` (from the leg's start
-    /// to that cell, then on to the goal), with its detour: how much longer it is than the leg's
-    /// shortest legal route, m. A preference whose witness needs a long detour is one a person
-    /// would not ask for in passing ("keep near the lamp" of a lamp across the room), and one no
-    /// route-length-aware planner would take.
+    /// to that cell, then on to the goal); `None` when it is more than `max_detour_m` longer than
+    /// the leg's shortest legal route. A preference whose witness needs a long detour is one a
+    /// person would not ask for in passing ("keep near the lamp" of a lamp across the room), and
+    /// one no route-length-aware planner would take.
     pub(crate) fn detour_via(
         &self,
         leg: &LegCtx<'_>,
