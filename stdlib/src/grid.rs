@@ -23,6 +23,23 @@ impl Cell {
         let dc = self.col as f64 - other.col as f64;
         dr.hypot(dc)
     }
+
+    /// Squared Euclidean distance in cells, exact: nearest-cell searches compare these and take
+    /// one square root at the end instead of one per pair.
+    pub fn dist_sq(self, other: Cell) -> u64 {
+        let dr = self.row.abs_diff(other.row) as u64;
+        let dc = self.col.abs_diff(other.col) as u64;
+        dr * dr + dc * dc
+    }
+
+    /// Distance to the nearest of `cells`, in cells (infinite for none).
+    pub fn nearest_dist(self, cells: &[Cell]) -> f64 {
+        cells
+            .iter()
+            .map(|c| self.dist_sq(*c))
+            .min()
+            .map_or(f64::INFINITY, |d| (d as f64).sqrt())
+    }
 }
 
 impl Serialize for Cell {

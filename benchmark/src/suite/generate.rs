@@ -30,6 +30,8 @@ pub const START_RADIUS: f64 = 3.0;
 /// Plans drawn per episode slot; the first with every preference placed is kept, else the one
 /// with the most.
 const ATTEMPTS: usize = 5;
+/// Must-avoids drawn per avoid slot before the slot is left empty.
+const AVOID_TRIES: usize = 4;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -301,12 +303,29 @@ impl<'a> Scene<'a> {
         let mut rooms = self.avoidable_rooms(rng, start, &stages);
         let mut global_avoids: Vec<Avoid> = Vec::new();
         for _ in 0..avoid_count {
-            let avoid = self.avoid(rng, start, &stages, &mut rooms)?;
-            if rng.random_bool(0.5) {
-                global_avoids.push(avoid);
-            } else {
-                let k = rng.random_range(0..stages.len());
-                stages[k].avoids.push(avoid);
+            // An avoid that cuts every legal route (the only hallway, say) is replaced rather than
+            // the plan dropped: dropping it would keep plans with fewer avoids, and the suite
+            // would come out under the drawn rate.
+            for _ in 0..AVOID_TRIES {
+                let Some(avoid) = self.avoid(rng, start, &stages, &mut rooms) else {
+                    break;
+                };
+                // Global, or active on one stage.
+                let on_stage = (!rng.random_bool(0.5)).then(|| rng.random_range(0..stages.len()));
+                match on_stage {
+                    Some(k) => stages[k].avoids.push(avoid),
+                    None => global_avoids.push(avoid),
+                }
+                if self
+                    .reference_route(start, &stages, &global_avoids)
+                    .is_some()
+                {
+                    break;
+                }
+                match on_stage {
+                    Some(k) => stages[k].avoids.pop(),
+                    None => global_avoids.pop(),
+                };
             }
         }
 

@@ -235,12 +235,11 @@ impl<'a> MapIndex<'a> {
             return *d;
         }
         let (fa, fb) = (&self.object(a).footprint, &self.object(b).footprint);
-        let mut best = f64::INFINITY;
-        for p in fa {
-            for q in fb {
-                best = best.min(p.dist(*q));
-            }
-        }
+        let best = fa
+            .iter()
+            .flat_map(|p| fb.iter().map(|q| p.dist_sq(*q)))
+            .min()
+            .map_or(f64::INFINITY, |d| (d as f64).sqrt());
         self.fp_cache.lock().expect("cache lock").insert(key, best);
         best
     }

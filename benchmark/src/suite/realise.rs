@@ -150,7 +150,7 @@ pub fn destination(sp: &mut Speaker<'_>, pos: Position, t: &str) -> String {
             &[
                 "first, go to {t}",
                 "start by heading to {t}",
-                "begin at {t}",
+                "begin by walking to {t}",
                 "go to {t} first",
             ],
         ),

@@ -243,6 +243,36 @@ impl ObjRef {
         }
     }
 
+    /// The one room the description itself names (not "closest to you", whose room keeps a
+    /// house-wide phrase local), if any.
+    pub fn stated_room(&self, ix: &MapIndex<'_>) -> Option<u32> {
+        if matches!(self, ObjRef::FromYou { .. }) {
+            return None;
+        }
+        match self.room()?.resolve(ix).as_slice() {
+            [id] => Some(*id),
+            _ => None,
+        }
+    }
+
+    /// "The sink in this bathroom and the toilet": the second of two objects described in the
+    /// same room leaves the room out, as a person would.
+    pub fn pair_text(
+        a: &ObjRef,
+        b: &ObjRef,
+        ix: &MapIndex<'_>,
+        sp: &mut Speaker<'_>,
+    ) -> (String, String) {
+        let ta = a.text(ix, sp);
+        let outer = sp.implied_room;
+        if let Some(r) = a.stated_room(ix).filter(|&r| b.stated_room(ix) == Some(r)) {
+            sp.implied_room = Some(r);
+        }
+        let tb = b.text(ix, sp);
+        sp.implied_room = outer;
+        (ta, tb)
+    }
+
     fn room(&self) -> Option<&RoomRef> {
         match self {
             ObjRef::InRoom { room, .. } => Some(room),
@@ -479,13 +509,7 @@ fn ranked_from(ix: &MapIndex<'_>, pool: &[u32], s: Cell, farthest: bool) -> Opti
         let c = ix.object(o).center;
         (c[0] - s.row as f64).hypot(c[1] - s.col as f64)
     };
-    let foot = |o: u32| {
-        ix.object(o)
-            .footprint
-            .iter()
-            .map(|f| f.dist(s))
-            .fold(f64::INFINITY, f64::min)
-    };
+    let foot = |o: u32| s.nearest_dist(&ix.object(o).footprint);
     let a = best_by(pool, &centre, farthest)?;
     let b = best_by(pool, &foot, farthest)?;
     (a == b).then_some(a)

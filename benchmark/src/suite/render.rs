@@ -256,8 +256,17 @@ impl<'a> Scene<'a> {
                 soft_no += 1;
                 *out.soft_counts.entry(soft.kind().to_string()).or_default() += 1;
                 let l = leg_phrase(&mut sp);
-                let (json, line) =
-                    self.soft(&mut sp, &mut out, soft, &var, short, order, soft_no, &l, n);
+                let (json, line) = self.soft(
+                    &mut sp,
+                    &mut out,
+                    soft,
+                    &var,
+                    (short, stage.room),
+                    order,
+                    soft_no,
+                    &l,
+                    n,
+                );
                 out.soft.push(json);
                 body.push(line);
             }
@@ -316,7 +325,7 @@ impl<'a> Scene<'a> {
                 )
             }
             AvoidPlace::Between(a, b) => {
-                let (ta, tb) = (a.text(ix, sp), b.text(ix, sp));
+                let (ta, tb) = ObjRef::pair_text(a, b, ix, sp);
                 out.stat(ix, "must-avoid", a, &ta);
                 out.stat(ix, "must-avoid", b, &tb);
                 (
@@ -335,14 +344,15 @@ impl<'a> Scene<'a> {
         out: &mut Out,
         soft: &SoftPlan,
         var: &str,
-        short: &str,
+        (short, dest_room_id): (&str, u32),
     ) -> (String, String) {
         let ix = &self.ix;
+        // The destination's room (for `Before`, the room after R, not R itself).
         let dest_room = |sp: &mut Speaker<'_>| {
             if var == "start" {
                 "the room you started in".to_string()
-            } else if sp.knows_room(soft.room) {
-                sp.room_id(ix, soft.room, None)
+            } else if sp.knows_room(dest_room_id) {
+                sp.room_id(ix, dest_room_id, None)
             } else {
                 let t = sp.pick("room.of", &["the room with {d}", "the room where {d} is"]);
                 realise::fill(t, &[("d", short)])
@@ -438,7 +448,7 @@ impl<'a> Scene<'a> {
         out: &mut Out,
         soft: &SoftPlan,
         var: &str,
-        short: &str,
+        dest: (&str, u32),
         order: u32,
         no: usize,
         leg: &str,
@@ -533,7 +543,7 @@ impl<'a> Scene<'a> {
             out.say(sp, text, line.clone());
             return (c, line);
         }
-        let (s_m2r, s_text) = self.scope(sp, out, soft, var, short);
+        let (s_m2r, s_text) = self.scope(sp, out, soft, var, dest);
         sp.implied_room = Some(soft.room);
         let (kind, pref_text, pref_m2r, ids): (&str, String, String, Vec<Vec<u32>>) =
             match &soft.pref {
@@ -581,7 +591,13 @@ impl<'a> Scene<'a> {
             ]);
         }
         let with_leg = stages > 1 && soft.scope != RoomScope::Start && sp.chance(0.5);
-        let shape = sp.pick("soft.shape", &["{s}, {p}", "{p} {s}", "{s}, {p}"]);
+        // After a leg phrase the room clause goes last: "As you go to the watch, stay close to
+        // the dog bed as you pass through the lounge", not two "as you" clauses in a row.
+        let shape = if with_leg {
+            sp.pick("soft.shape.after_leg", &["{p} {s}"])
+        } else {
+            sp.pick("soft.shape", &["{s}, {p}", "{p} {s}", "{s}, {p}"])
+        };
         let mut s = realise::fill(shape, &[("s", &s_text), ("p", &pref_text)]);
         if with_leg {
             s = format!("{leg}, {s}");

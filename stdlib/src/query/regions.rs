@@ -28,18 +28,50 @@ impl MapQuery<'_> {
     pub fn area_near(&self, t: Target, within_m: f64) -> Vec<Cell> {
         let r = within_m / self.res();
         let own = self.cells(t);
-        let mut out: Vec<Cell> = Vec::new();
-        for &c in self.outline(t) {
-            out.extend(self.disk([c.row as f64, c.col as f64], r));
-        }
-        out.sort_unstable();
-        out.dedup();
+        let mut out: Vec<Cell> = match t {
+            // An object's outline is short: scanning its padded box once, in row-major (sorted)
+            // order, beats a disk per outline cell and the sort of their union.
+            Target::Object(_) => self.within_of(self.outline(t), r),
+            _ => {
+                let mut out: Vec<Cell> = Vec::new();
+                for &c in self.outline(t) {
+                    out.extend(self.disk([c.row as f64, c.col as f64], r));
+                }
+                out.sort_unstable();
+                out.dedup();
+                out
+            }
+        };
         match t {
             Target::Object(_) => out.retain(|c| own.binary_search(c).is_err()),
             _ => {
                 out.extend_from_slice(own);
                 out.sort_unstable();
                 out.dedup();
+            }
+        }
+        out
+    }
+
+    /// Cells whose centre is within `r` cells of some cell of `line` (the union of [`Self::disk`]
+    /// around each of them, the same `1e-9` tolerance included), sorted.
+    fn within_of(&self, line: &[Cell], r: f64) -> Vec<Cell> {
+        let n = self.map.n() as i64;
+        let r = r.max(0.0);
+        let limit = r * r + 1e-9;
+        let pad = r.ceil() as i64;
+        let (mut r0, mut c0, mut r1, mut c1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
+        for c in line {
+            let (row, col) = (c.row as i64, c.col as i64);
+            (r0, c0, r1, c1) = (r0.min(row), c0.min(col), r1.max(row), c1.max(col));
+        }
+        let mut out = Vec::new();
+        for row in (r0 - pad).max(0)..=(r1 + pad).min(n - 1) {
+            for col in (c0 - pad).max(0)..=(c1 + pad).min(n - 1) {
+                let cell = Cell::new(row as u32, col as u32);
+                if line.iter().any(|f| cell.dist_sq(*f) as f64 <= limit) {
+                    out.push(cell);
+                }
             }
         }
         out
@@ -185,6 +217,34 @@ mod tests {
         assert!(!area.contains(&Cell::new(3, 7)));
         assert!(area.contains(&Cell::new(3, 9)) && area.contains(&Cell::new(1, 7)));
         assert!(!area.contains(&Cell::new(3, 10)));
+    }
+
+    /// The box scan of an object's area is the union of a disk around each outline cell, at
+    /// every radius (fractional ones included, where the `1e-9` tolerance decides).
+    #[test]
+    fn area_near_of_an_object_is_the_union_of_its_outline_disks() {
+        let map = two_rooms();
+        let q = MapQuery::new(&map);
+        for obj in &map.objects {
+            let t = Target::Object(obj);
+            for within_m in [0.0, 0.05, 0.1, 0.2, 0.25, 0.5, 1.0] {
+                let r = within_m / q.res();
+                let mut union: Vec<Cell> = q
+                    .outline(t)
+                    .iter()
+                    .flat_map(|c| q.disk([c.row as f64, c.col as f64], r))
+                    .collect();
+                union.sort_unstable();
+                union.dedup();
+                union.retain(|c| obj.footprint.binary_search(c).is_err());
+                assert_eq!(
+                    q.area_near(t, within_m),
+                    union,
+                    "object {} within {within_m} m",
+                    obj.id
+                );
+            }
+        }
     }
 
     #[test]

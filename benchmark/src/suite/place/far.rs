@@ -101,8 +101,7 @@ impl<'a> Scene<'a> {
         if *tries > TRIES {
             return None;
         }
-        let band = self.band(leg, ids, None, 0.0, d_ref + FAR_MIN_GAIN_M);
-        let keep_out: Vec<usize> = (0..band.len()).filter(|&i| band[i]).collect();
+        let keep_out = self.band(leg, ids, None, 0.0, d_ref + FAR_MIN_GAIN_M);
         if keep_out.contains(&ix.free.index(leg.view.from)) {
             return None;
         }

@@ -31,6 +31,8 @@ use std::collections::HashSet;
 
 /// R must hold this many waypoints of the reference route's scored window.
 pub const MIN_ROOM_WAYPOINTS: usize = 20;
+/// Via cells of the witnesses [`Scene::detours_via`] offers keep this far apart, m.
+pub const WITNESS_SPREAD_M: f64 = 0.5;
 /// Subjects keep this far from the destination's must-pass region and from the leg's start, m.
 pub const KEEP_OFF_GOAL_M: f64 = 1.0;
 
@@ -236,9 +238,23 @@ impl<'a> Scene<'a> {
     pub(crate) fn detour_via(
         &self,
         leg: &LegCtx<'_>,
-        via: &[bool],
+        via: &[usize],
         max_detour_m: f64,
     ) -> Option<Vec<Cell>> {
+        self.detours_via(leg, via, max_detour_m, 1).pop()
+    }
+
+    /// Up to `k` witnesses of [`Self::detour_via`]'s kind through via cells at least
+    /// [`WITNESS_SPREAD_M`] apart, shortest first: the shortest detour to a band need not be the
+    /// one that stays near the object longest, and a preference is kept when some legal route
+    /// within the detour bound meets it.
+    pub(crate) fn detours_via(
+        &self,
+        leg: &LegCtx<'_>,
+        via: &[usize],
+        max_detour_m: f64,
+        k: usize,
+    ) -> Vec<Vec<Cell>> {
         let ix = &self.ix;
         let res = ix.resolution();
         let to_goal = leg.to_goal.get_or_init(|| {
@@ -248,29 +264,41 @@ impl<'a> Scene<'a> {
         let from = leg
             .from_start
             .get_or_init(|| m2rc_stdlib::query::TravelField::new(&leg.grid, &[leg.view.from], res));
-        // The via cell with the shortest route through it (the lowest index on ties).
-        let (walk, mid) = via
+        let direct = to_goal.cells_to(leg.view.from);
+        // Via cells within the bound, shortest route first (the lowest index on ties).
+        let mut ranked: Vec<(f64, Cell)> = via
             .iter()
-            .enumerate()
-            .filter(|&(_, &v)| v)
-            .map(|(i, _)| {
+            .map(|&i| {
                 let c = ix.cell(i);
                 (from.cells_to(c) + to_goal.cells_to(c), c)
             })
-            .filter(|(d, _)| d.is_finite())
-            .min_by(|a, b| a.0.total_cmp(&b.0))?;
-        if (walk - to_goal.cells_to(leg.view.from)) * res > max_detour_m {
-            return None;
+            .filter(|(d, _)| d.is_finite() && (d - direct) * res <= max_detour_m)
+            .collect();
+        ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let spread = (WITNESS_SPREAD_M / res).powi(2);
+        let mut mids: Vec<Cell> = Vec::new();
+        for (_, c) in ranked {
+            if mids.len() == k {
+                break;
+            }
+            if mids.iter().all(|m| m.dist_sq(c) as f64 >= spread) {
+                mids.push(c);
+            }
         }
-        let mut route = from.path_to(&leg.grid, mid)?;
-        let mut second = to_goal.path_to(&leg.grid, mid)?;
-        second.reverse();
-        route.extend(second.into_iter().skip(1));
-        Some(self.scored(leg, route))
+        mids.into_iter()
+            .filter_map(|mid| {
+                let mut route = from.path_to(&leg.grid, mid)?;
+                let mut second = to_goal.path_to(&leg.grid, mid)?;
+                second.reverse();
+                route.extend(second.into_iter().skip(1));
+                Some(self.scored(leg, route))
+            })
+            .collect()
     }
 
     /// Free cells (of `room` when given), legal on the leg, whose distance to the footprint of
-    /// `ids` lies in [lo, hi] metres.
+    /// `ids` lies in [lo, hi] metres, as ascending grid indices (a band is a thin ring, so a list
+    /// keeps its users off a scan of the whole grid).
     pub(crate) fn band(
         &self,
         leg: &LegCtx<'_>,
@@ -278,11 +306,12 @@ impl<'a> Scene<'a> {
         room: Option<u32>,
         lo: f64,
         hi: f64,
-    ) -> Vec<bool> {
+    ) -> Vec<usize> {
         let ix = &self.ix;
         let n = ix.map.n();
         let res = ix.resolution();
-        let mut out = vec![false; n * n];
+        let mut seen = vec![false; n * n];
+        let mut out = Vec::new();
         let (lo, hi) = (lo / res, hi / res);
         for &o in ids {
             let fp = outline(&ix.object(o).footprint);
@@ -295,22 +324,20 @@ impl<'a> Scene<'a> {
                 for c in c0.saturating_sub(pad)..=(c1 + pad).min(n as u32 - 1) {
                     let cell = Cell::new(r, c);
                     let i = ix.free.index(cell);
-                    if out[i]
+                    if seen[i]
                         || !leg.mask.passable(cell)
                         || room.is_some_and(|r| ix.room_at(cell) != r)
                     {
                         continue;
                     }
-                    let d = fp
-                        .iter()
-                        .map(|f| cell.dist(*f))
-                        .fold(f64::INFINITY, f64::min);
-                    if (lo..=hi).contains(&d) {
-                        out[i] = true;
+                    if (lo..=hi).contains(&cell.nearest_dist(&fp)) {
+                        seen[i] = true;
+                        out.push(i);
                     }
                 }
             }
         }
+        out.sort_unstable();
         out
     }
 }
@@ -360,17 +387,8 @@ pub fn mean_distance(points: &[Cell], footprints: &[&[Cell]]) -> f64 {
     if points.is_empty() {
         return f64::INFINITY;
     }
-    let lines: Vec<Vec<Cell>> = footprints.iter().map(|f| outline(f)).collect();
-    let sum: f64 = points
-        .iter()
-        .map(|p| {
-            lines
-                .iter()
-                .flat_map(|l| l.iter())
-                .map(|f| p.dist(*f))
-                .fold(f64::INFINITY, f64::min)
-        })
-        .sum();
+    let line: Vec<Cell> = footprints.iter().flat_map(|f| outline(f)).collect();
+    let sum: f64 = points.iter().map(|p| p.nearest_dist(&line)).sum();
     sum / points.len() as f64
 }
 

@@ -1,17 +1,18 @@
 //! Near preferences: an object off the reference route that a legal detour can approach.
 //!
-//! Witness: the shortest legal route of the leg through the free floor [`BAND_M`] from the
-//! object (inside the scope room), then on to the destination, at most [`NEAR_MAX_DETOUR_M`]
-//! longer than the leg's shortest route (a thing near the way, not across the house). The
-//! evaluator's Near is the mean distance over the scored waypoints in R, and a preference is
-//! kept in one of two forms:
+//! Witnesses: legal routes of the leg through the free floor [`BAND_M`] from the object (inside
+//! the scope room), then on to the destination, each at most [`NEAR_MAX_DETOUR_M`] longer than
+//! the leg's shortest route (a thing near the way, not across the house); up to [`WITNESSES`],
+//! through band cells apart, since the shortest detour only touches the band and another within
+//! the bound may stay near the object longer. The evaluator's Near is the mean distance over the
+//! scored waypoints in R, and a preference is kept in one of two forms:
 //! - **room**: R is the scope room; kept when the reference route keeps at least
-//!   [`NEAR_MIN_SHORTEST_M`] + [`NEAR_MIN_GAIN_M`] away on average and the witness is
+//!   [`NEAR_MIN_SHORTEST_M`] + [`NEAR_MIN_GAIN_M`] away on average and some witness is
 //!   [`NEAR_MIN_GAIN_M`] closer;
 //! - **passing** ("stay close to the lamp as you pass it"): R is the room's floor within
 //!   [`PASSING_WITHIN_M`] of the object, which the reference route must cross
 //!   ([`PASSING_MIN_WAYPOINTS`]); kept when the reference route keeps at least
-//!   [`NEAR_MIN_SHORTEST_M`] + [`PASSING_MIN_GAIN_M`] away there on average and the witness is
+//!   [`NEAR_MIN_SHORTEST_M`] + [`PASSING_MIN_GAIN_M`] away there on average and some witness is
 //!   [`PASSING_MIN_GAIN_M`] closer. The gold program scopes it to the room all the same: a
 //!   scope of the area itself would make the preference's cost push routes out of the area.
 
@@ -36,6 +37,8 @@ pub const PASSING_WITHIN_M: f64 = 2.5;
 pub const PASSING_MIN_GAIN_M: f64 = 1.0;
 /// Reference-route waypoints a passing preference's R must hold.
 pub const PASSING_MIN_WAYPOINTS: usize = 20;
+/// Witnesses tried per candidate (through band cells at least `WITNESS_SPREAD_M` apart).
+pub const WITNESSES: usize = 12;
 /// Candidates tested per placement (a detour is two distance-field look-ups per band cell).
 const TRIES: usize = 30;
 
@@ -58,9 +61,7 @@ impl<'a> Scene<'a> {
             // compiler's `area_near`, is built only for a preference that is kept).
             let near_enough = |c: &Cell| {
                 ix.room_at(*c) == scope.room
-                    && line
-                        .iter()
-                        .any(|f| c.dist(*f) * res <= PASSING_WITHIN_M + res)
+                    && c.nearest_dist(&line) * res <= PASSING_WITHIN_M + res
             };
             let d_room = mean_distance(&scope.window, &[fp]) * res;
             let ref_near: Vec<Cell> = scope.window.iter().copied().filter(near_enough).collect();
@@ -72,41 +73,48 @@ impl<'a> Scene<'a> {
                 continue;
             }
             let via = self.band(leg, &[o], Some(scope.room), BAND_M.0, BAND_M.1);
-            if !via.iter().any(|&b| b) {
+            if via.is_empty() {
                 continue;
             }
             tries += 1;
             if tries > TRIES {
                 break;
             }
-            let Some(witness) = self.detour_via(leg, &via, NEAR_MAX_DETOUR_M) else {
-                continue;
-            };
-            let region = if room_ok
-                && d_room - mean_distance(&in_room(ix, &witness, scope.room), &[fp]) * res
-                    >= NEAR_MIN_GAIN_M
-            {
-                Some((ix.room_free_cells(scope.room), false))
-            } else if area_ok {
-                // The passing form, judged on its exact R.
-                let area = self.passing_area(o, scope.room);
-                let in_area = |route: &[Cell]| -> Vec<Cell> {
+            let witnesses = self.detours_via(leg, &via, NEAR_MAX_DETOUR_M, WITNESSES);
+            // The passing form's exact R and the reference route's Near in it, built once.
+            let mut passing: Option<(Vec<usize>, f64)> = None;
+            let region = witnesses.iter().find_map(|witness| {
+                if room_ok
+                    && d_room - mean_distance(&in_room(ix, witness, scope.room), &[fp]) * res
+                        >= NEAR_MIN_GAIN_M
+                {
+                    return Some((ix.room_free_cells(scope.room), false));
+                }
+                if !area_ok {
+                    return None;
+                }
+                let in_area = |area: &[usize], route: &[Cell]| -> Vec<Cell> {
                     route
                         .iter()
                         .copied()
                         .filter(|&c| area.binary_search(&ix.free.index(c)).is_ok())
                         .collect()
                 };
-                let reference = in_area(&scope.window);
-                let d_area = mean_distance(&reference, &[fp]) * res;
-                (reference.len() >= PASSING_MIN_WAYPOINTS
-                    && d_area >= NEAR_MIN_SHORTEST_M + PASSING_MIN_GAIN_M
-                    && d_area - mean_distance(&in_area(&witness), &[fp]) * res
+                let (area, d_area) = passing.get_or_insert_with(|| {
+                    let area = self.passing_area(o, scope.room);
+                    let reference = in_area(&area, &scope.window);
+                    let d = if reference.len() >= PASSING_MIN_WAYPOINTS {
+                        mean_distance(&reference, &[fp]) * res
+                    } else {
+                        f64::NEG_INFINITY
+                    };
+                    (area, d)
+                });
+                (*d_area >= NEAR_MIN_SHORTEST_M + PASSING_MIN_GAIN_M
+                    && *d_area - mean_distance(&in_area(area, witness), &[fp]) * res
                         >= PASSING_MIN_GAIN_M)
-                    .then_some((area, true))
-            } else {
-                None
-            };
+                    .then(|| (area.clone(), true))
+            });
             if let Some((region, passing)) = region
                 && let Some(subject) = self.subject(rng, o, scope.room)
             {

@@ -85,7 +85,7 @@ impl<'a> Scene<'a> {
                 break;
             }
             let via = self.band(leg, &[a], Some(scope.room), BAND_M.0, BAND_M.1);
-            if !via.iter().any(|&x| x) {
+            if via.is_empty() {
                 continue;
             }
             let Some(witness) = self.detour_via(leg, &via, RELATIVE_MAX_DETOUR_M) else {

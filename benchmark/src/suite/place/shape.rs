@@ -85,12 +85,7 @@ impl<'a> Scene<'a> {
             let obj = ix.object(o);
             let farthest = ring
                 .iter()
-                .map(|p| {
-                    obj.footprint
-                        .iter()
-                        .map(|f| p.dist(*f))
-                        .fold(f64::INFINITY, f64::min)
-                })
+                .map(|p| p.nearest_dist(&obj.footprint))
                 .fold(0.0, f64::max);
             let within_m = ((farthest + LOOP_SLACK_CELLS) * res / 0.05).ceil() * 0.05;
             let within_m: f64 = format!("{within_m:.2}").parse().unwrap_or(within_m);

@@ -76,3 +76,37 @@ fn a_scoped_clause_does_not_name_its_room_twice() {
         "objects(fridge).in(rooms(kitchen).only()).only()"
     );
 }
+
+/// Two objects of one room ("between the fridge in the kitchen and the sink") name the room
+/// once; two of different rooms name both, and the scope the clause had is restored.
+#[test]
+fn a_pair_in_one_room_names_the_room_once() {
+    use rand::SeedableRng;
+    let map = m2rc_stdlib::demo::demo_map().unwrap();
+    let ix = MapIndex::new(&map);
+    let in_room = |cat: &str, room: &str| ObjRef::InRoom {
+        cat: cat.into(),
+        room: RoomRef::Unique { cat: room.into() },
+    };
+    let (fridge, sink) = (in_room("fridge", "kitchen"), in_room("sink", "kitchen"));
+    let toilet = in_room("toilet", "bathroom");
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let mut sp = Speaker::new(&mut rng);
+    let (ta, tb) = ObjRef::pair_text(&fridge, &sink, &ix, &mut sp);
+    assert!(ta.contains("kitchen"), "{ta}");
+    // Not "the sink in that room" either: no room at all.
+    assert!(
+        tb.starts_with("the ") && !tb.contains(" in ") && !tb.contains("room"),
+        "{tb}"
+    );
+    assert_eq!(sp.implied_room, None);
+    let mut sp = Speaker::new(&mut rng);
+    let (_, tb) = ObjRef::pair_text(&fridge, &toilet, &ix, &mut sp);
+    assert!(tb.contains("bathroom"), "{tb}");
+    let bath = ix.rooms_of_cat("bathroom")[0];
+    let mut sp = Speaker::new(&mut rng);
+    sp.implied_room = Some(bath);
+    let (ta, _) = ObjRef::pair_text(&fridge, &sink, &ix, &mut sp);
+    assert!(ta.contains("kitchen"), "{ta}");
+    assert_eq!(sp.implied_room, Some(bath));
+}

@@ -5,6 +5,7 @@ use crate::suite::generate::Scene;
 use crate::suite::lexicon;
 use crate::suite::plan::{Dest, Stage};
 use crate::suite::realise::{self, Speaker};
+use crate::suite::refs::ObjRef;
 
 impl<'a> Scene<'a> {
     /// (text, program expression, short anaphoric name) of a destination.
@@ -102,7 +103,8 @@ impl<'a> Scene<'a> {
                     format!("the other {noun}")
                 };
                 out.stat_implied(ix, &role, cat, &t);
-                let short = format!("the {}", lexicon::plain(&ix.object(*id).category));
+                // "While heading to the other couch": "the couch" would be either of the two.
+                let short = format!("the other {}", lexicon::plain(&ix.object(*id).category));
                 (
                     t,
                     format!("objects({cat}).except(t{}).only()", first + 1),
@@ -115,8 +117,7 @@ impl<'a> Scene<'a> {
                 "your starting point".into(),
             ),
             Dest::Between { a, b } => {
-                let ta = a.text(ix, sp);
-                let tb = b.text(ix, sp);
+                let (ta, tb) = ObjRef::pair_text(a, b, ix, sp);
                 out.stat(ix, &role, a, &ta);
                 out.stat(ix, &role, b, &tb);
                 let form = sp.pick(
