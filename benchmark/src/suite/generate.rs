@@ -302,6 +302,8 @@ impl<'a> Scene<'a> {
 
         let mut rooms = self.avoidable_rooms(rng, start, &stages);
         let mut global_avoids: Vec<Avoid> = Vec::new();
+        // The route of the last accepted avoid: a rejected one is taken back, so it stays valid.
+        let mut route = None;
         for _ in 0..avoid_count {
             // An avoid that cuts every legal route (the only hallway, say) is replaced rather than
             // the plan dropped: dropping it would keep plans with fewer avoids, and the suite
@@ -316,10 +318,8 @@ impl<'a> Scene<'a> {
                     Some(k) => stages[k].avoids.push(avoid),
                     None => global_avoids.push(avoid),
                 }
-                if self
-                    .reference_route(start, &stages, &global_avoids)
-                    .is_some()
-                {
+                if let Some(r) = self.reference_route(start, &stages, &global_avoids) {
+                    route = Some(r);
                     break;
                 }
                 match on_stage {
@@ -329,7 +329,10 @@ impl<'a> Scene<'a> {
             }
         }
 
-        let route = self.reference_route(start, &stages, &global_avoids)?;
+        let route = match route {
+            Some(r) => r,
+            None => self.reference_route(start, &stages, &global_avoids)?,
+        };
         let views = self.leg_views(start, &stages, &route);
         let forbidden: Vec<Vec<usize>> = (0..stages.len())
             .map(|k| self.stage_forbidden(&stages, &global_avoids, k))

@@ -59,7 +59,8 @@ impl MapQuery<'_> {
         let n = self.map.n() as i64;
         let r = r.max(0.0);
         let limit = r * r + 1e-9;
-        let pad = r.ceil() as i64;
+        // No cell lies farther than the grid's side, and a larger pad could overflow the bounds.
+        let pad = r.ceil().min(n as f64) as i64;
         let (mut r0, mut c0, mut r1, mut c1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
         for c in line {
             let (row, col) = (c.row as i64, c.col as i64);
