@@ -103,7 +103,9 @@ pub enum ConstraintKind {
     /// Soft: follow a shape given as ordered waypoints (already built from the map).
     PathShape {
         shape: Shape,
-        direction: Direction,
+        /// The turning sense of a loop; none for [`Shape::Through`], which has no sense.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        direction: Option<Direction>,
         /// What the shape was built around (the circled object, the followed room).
         around: Place,
         /// Small regions to pass in this order.
@@ -122,6 +124,8 @@ pub enum Shape {
     FollowWall,
     /// A wall-following loop of a room that ends at the doorway used to leave it.
     Patrol,
+    /// Past a few places in a given order (an S-weave, "by the sofa, then the lamp").
+    Through,
 }
 
 /// Turning sense on screen (rows grow downward, as in the map images).

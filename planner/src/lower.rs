@@ -17,7 +17,7 @@ use crate::problem::{
     Area, CostProfile, Fallback, Forbid, Origin, PlanProblem, RelativeMode, SegmentSpec, SoftKind,
     SoftTerm, StageRole, StageSpec, Target,
 };
-use m2rc_compiler::ir::{Constraint, ConstraintKind, Place, PlaceKind, RouteIr, SourceSpan};
+use m2rc_compiler::ir::{Constraint, ConstraintKind, Place, PlaceKind, RouteIr, Shape, SourceSpan};
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::map::SemanticMap;
 
@@ -119,9 +119,17 @@ pub fn lower_with(
                     radius_m: *distance_m,
                 })),
                 ConstraintKind::PathShape {
-                    around, waypoints, ..
+                    shape,
+                    around,
+                    waypoints,
+                    ..
                 } => {
-                    let smooth = room_area_of(around, map, ctx);
+                    // Only loops charge turns: a `through` chain may cross rooms and has no
+                    // curve of its own to keep smooth (the reference's relative waypoints too).
+                    let smooth = match shape {
+                        Shape::Through => None,
+                        _ => room_area_of(around, map, ctx),
+                    };
                     let specs = waypoints
                         .iter()
                         .enumerate()

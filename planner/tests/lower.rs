@@ -179,7 +179,7 @@ fn ir(avoid: Vec<Cell>) -> RouteIr {
                 id: "c2".into(),
                 kind: ConstraintKind::PathShape {
                     shape: Shape::Circle,
-                    direction: Direction::Clockwise,
+                    direction: Some(Direction::Clockwise),
                     around: bed_place(),
                     waypoints: vec![region("wp0", "waypoint", vec![Cell::new(1, 15)])],
                 },

@@ -118,6 +118,24 @@ fn check_route(name: &str, map: &SemanticMap, c: &CompiledRoute) {
             };
             k = j;
         }
+        // A `through` chain is passed in the order written, within the stage.
+        for con in c.ir.active(i) {
+            if let ConstraintKind::PathShape {
+                shape: m2rc_compiler::ir::Shape::Through,
+                waypoints,
+                ..
+            } = &con.kind
+            {
+                let mut k = from;
+                for w in waypoints {
+                    let hit = (k..=end).find(|&j| w.cells.contains(t[j]));
+                    let Some(j) = hit else {
+                        panic!("{name}: stage {} never passes {} in order", i + 1, w.label)
+                    };
+                    k = j;
+                }
+            }
+        }
         // No cell entered during the stage lies in an active avoid region (inside its scope).
         for &cell in &t[(from + 1).max(1)..=end] {
             for con in c.ir.active(i) {
@@ -160,6 +178,7 @@ fn features(c: &CompiledRoute) -> BTreeSet<&'static str> {
                 m2rc_compiler::ir::Shape::Circle => "circle",
                 m2rc_compiler::ir::Shape::FollowWall => "follow_wall",
                 m2rc_compiler::ir::Shape::Patrol => "patrol",
+                m2rc_compiler::ir::Shape::Through => "through",
             },
             ConstraintKind::Clearance { .. } => "clearance",
         });
@@ -210,6 +229,7 @@ fn every_example_compiles_to_a_sound_route() {
         "circle",
         "follow_wall",
         "patrol",
+        "through",
         "clearance",
         "scope:global",
         "scope:stage",

@@ -161,8 +161,8 @@ fn soft_count(rng: &mut ChaCha8Rng, d: Difficulty) -> usize {
 /// as near the paper's as the houses allow.
 fn soft_kinds(rng: &mut ChaCha8Rng, d: Difficulty) -> Vec<&'static str> {
     let w: [f64; 4] = match d {
-        Difficulty::Easy => [1000.0, 420.0, 420.0, 50.0],
-        Difficulty::Hard => [900.0, 420.0, 260.0, 260.0],
+        Difficulty::Easy => [1000.0, 420.0, 480.0, 40.0],
+        Difficulty::Hard => [900.0, 420.0, 260.0, 220.0],
     };
     let kinds = ["near", "far", "relative", "path_shape"];
     // Efraimidis-Spirakis: sorting by u^(1/w) draws a weighted order without replacement.

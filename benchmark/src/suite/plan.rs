@@ -129,6 +129,8 @@ pub enum ShapeKind {
     Patrol,
     /// Follow the start room's walls once around.
     FollowWall,
+    /// Weave past two or three objects of a room in a given order.
+    Through,
 }
 
 /// A path-shape preference with its canonical reference trajectory and the area R it is
@@ -139,6 +141,8 @@ pub struct ShapePlan {
     /// The circled object (circle only), with its description (`None`: the only one of its
     /// category in the scope room).
     pub object: Option<(u32, Option<ObjRef>)>,
+    /// The objects a `through` passes by, in order (empty for the other shapes).
+    pub via: Vec<Subject>,
     pub clockwise: bool,
     pub reference: Vec<Cell>,
     /// R: free cells, grid indices.

@@ -228,7 +228,7 @@ pub fn near_passing(sp: &mut Speaker<'_>, x: &str) -> String {
         &[
             "stay close to {x} as you pass it",
             "keep near {x} as you go by it",
-            "when you pass {x}, keep close to it",
+            "keep close to {x} whenever you pass it",
             "pass right by {x}",
         ],
     );
@@ -304,6 +304,39 @@ pub fn follow_wall(sp: &mut Speaker<'_>, clockwise: bool) -> String {
         ],
     );
     fill(t, &[("d", dir_word(clockwise))])
+}
+
+/// "the sofa, then the lamp" / "the sofa, then the lamp, and then the desk".
+fn in_order(xs: &[&str]) -> String {
+    match xs {
+        [] => String::new(),
+        [a] => (*a).to_string(),
+        [a, b] => format!("{a} and then {b}"),
+        [init @ .., last] => format!("{}, and then {last}", init.join(", then ")),
+    }
+}
+
+pub fn through(sp: &mut Speaker<'_>, xs: &[&str]) -> String {
+    let list = in_order(xs);
+    let t = match xs {
+        [a, b] => {
+            let t = sp.pick(
+                "through.two",
+                &[
+                    "weave past {l}",
+                    "walk past {a} first and then past {b}",
+                    "pass first by {a} and then by {b}",
+                    "make your way past {a} and then {b}",
+                ],
+            );
+            return fill(t, &[("l", &list), ("a", a), ("b", b)]);
+        }
+        _ => sp.pick(
+            "through.many",
+            &["weave past {l}", "pass by {l}", "walk past {l}"],
+        ),
+    };
+    fill(t, &[("l", &list)])
 }
 
 /// A leg qualifier for preferences when the episode has several stages.

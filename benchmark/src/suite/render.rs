@@ -23,6 +23,10 @@ use serde_json::{Value, json};
 use std::collections::BTreeMap;
 
 mod dest;
+mod shape;
+
+/// How the canonical trajectory of a `through` was made, in its annotation.
+const THROUGH_NOTES: &str = "generated: the language's `through` (free floor within 0.5 m of each object, in order), entered and left where the reference route enters and leaves the room, each region reached by the shortest path over the room's legal floor, the objects in the order of the shortest such trajectory";
 
 /// What rendering accumulates.
 struct Out {
@@ -457,91 +461,10 @@ impl<'a> Scene<'a> {
         let ix = &self.ix;
         let role = format!("{} preference", soft.kind());
         let label = format!("{} in room {}", soft.kind(), soft.room);
-        if let Pref::Shape(shape) = &soft.pref {
-            let mut c = soft_base(
-                no,
-                "path_shape_preference",
-                stage_scope(order),
-                &label,
-                ix,
-                &shape.area,
-            );
-            let ring: Vec<Value> = shape
-                .reference
-                .iter()
-                .map(|c| json!([c.row, c.col]))
-                .collect();
-            let dir = if shape.clockwise {
-                "clockwise"
-            } else {
-                "counterclockwise"
-            };
-            let (text, line, kind) = match shape.kind {
-                ShapeKind::Circle => {
-                    let (o, desc) = shape.object.clone().expect("a circle has an object");
-                    let (t, m2r) = match &desc {
-                        Some(d) => {
-                            let t = d.text(ix, sp);
-                            out.stat(ix, &role, d, &t);
-                            (t, d.m2r())
-                        }
-                        None => {
-                            let cat = &ix.object(o).category;
-                            let t = format!("the {}", sp.noun(cat));
-                            out.stat_implied(ix, &role, cat, &t);
-                            let room = self.room_expr(soft, var);
-                            (t, format!("objects({cat}).in({room}).only()"))
-                        }
-                    };
-                    c["object_ids"] = json!([o]);
-                    c["reference_region"] = json!({"mode": "object", "object_id": o, "cells": footprints_json(ix, &[o])});
-                    let s = realise::circle(sp, &t, shape.clockwise);
-                    let s = if sp.chance(0.5) {
-                        format!("{leg}, {s}")
-                    } else {
-                        s
-                    };
-                    (
-                        sentence(&s),
-                        format!(
-                            "prefer circle({m2r}, {dir}) within area_near({m2r}, within: {:.2}m)",
-                            shape.within_m
-                        ),
-                        "circle",
-                    )
-                }
-                ShapeKind::Patrol => (
-                    sentence(&realise::patrol(sp, shape.clockwise)),
-                    format!("prefer patrol(start.room(), {dir}) within start.room()"),
-                    "patrol",
-                ),
-                ShapeKind::FollowWall => (
-                    sentence(&realise::follow_wall(sp, shape.clockwise)),
-                    format!("prefer follow_wall(start.room(), {dir}) within start.room()"),
-                    "follow_wall",
-                ),
-            };
-            // A patrol or wall loop names the room's walls, and a patrol the doorway it ends at.
-            for (word, what, count) in [
-                ("wall", "wall", ix.count_any(&["wall"])),
-                ("door", "doorway", ix.count_any(&["doorway", "doorframe"])),
-            ] {
-                if kind != "circle" && text.contains(word) && count > 0 {
-                    out.stat_structure(&role, what, count, &text);
-                }
-            }
-            c["reference_waypoint_count"] = json!(ring.len());
-            c["reference_trajectory"] = json!(ring.clone());
-            c["path_shape_annotation"] = json!({
-                "version": 1, "annotation_type": "canonical_path_shape_reference",
-                "shape_spec": {"type": kind, "direction": dir, "ordered_control_points": ring.clone()},
-                "shape_reference_trajectory": ring, "shape_reference_source": format!("m2rc_canonical_{kind}_v3"),
-                "annotator_id": "m2rc-suite",
-                "notes": "generated: the language's shape (circle: radius half the larger extent + 0.45 m about the centroid; patrol / follow_wall: the stdlib's wall loop waypoints joined by shortest paths, a patrol ending at the doorway the reference route leaves by), from the stage start",
-                "created_at": TIMESTAMP, "updated_at": TIMESTAMP, "history": [],
-            });
-            out.say(sp, text, line.clone());
-            return (c, line);
+        if let Pref::Shape(shape) = &soft.pref
+            && shape.kind != ShapeKind::Through
+        {
+            return self.loop_soft(sp, out, soft, shape, var, leg, (no, order), &label, &role);
         }
         let (s_m2r, s_text) = self.scope(sp, out, soft, var, dest);
         sp.implied_room = Some(soft.room);
@@ -575,7 +498,21 @@ impl<'a> Scene<'a> {
                         vec![a.ids(), b.ids()],
                     )
                 }
-                Pref::Shape(_) => unreachable!("handled above"),
+                Pref::Shape(shape) => {
+                    let said: Vec<(String, String)> = shape
+                        .via
+                        .iter()
+                        .map(|x| self.subject_text(sp, out, x, &s_m2r, &role))
+                        .collect();
+                    let texts: Vec<&str> = said.iter().map(|(t, _)| t.as_str()).collect();
+                    let m2r: Vec<&str> = said.iter().map(|(_, m)| m.as_str()).collect();
+                    (
+                        "path_shape_preference",
+                        realise::through(sp, &texts),
+                        format!("through({})", m2r.join(", ")),
+                        shape.via.iter().map(Subject::ids).collect(),
+                    )
+                }
             };
         sp.implied_room = None;
         let mut c = soft_base(no, kind, stage_scope(order), &label, ix, &soft.region);
@@ -584,11 +521,16 @@ impl<'a> Scene<'a> {
             c["reference_region"] =
                 json!({"mode": "object", "object_id": one[0], "cells": footprints_json(ix, one)});
         } else {
-            c["object_ids"] = json!([ids[0][0], ids[1][0]]);
-            c["reference_regions"] = json!([
-                {"object_id": ids[0][0], "cells": footprints_json(ix, &ids[0])},
-                {"object_id": ids[1][0], "cells": footprints_json(ix, &ids[1])},
-            ]);
+            let firsts: Vec<u32> = ids.iter().map(|x| x[0]).collect();
+            c["object_ids"] = json!(firsts);
+            let regions: Vec<Value> = ids
+                .iter()
+                .map(|x| json!({"object_id": x[0], "cells": footprints_json(ix, x)}))
+                .collect();
+            c["reference_regions"] = json!(regions);
+        }
+        if let Pref::Shape(shape) = &soft.pref {
+            shape::annotate(&mut c, shape, "through", "unspecified", THROUGH_NOTES);
         }
         let with_leg = stages > 1 && soft.scope != RoomScope::Start && sp.chance(0.5);
         // After a leg phrase the room clause goes last: "As you go to the watch, stay close to

@@ -361,16 +361,22 @@ fn constraint_what(ir: &RouteIr, i: usize) -> String {
                 Shape::Circle => "circle",
                 Shape::FollowWall => "follow_wall",
                 Shape::Patrol => "patrol",
+                Shape::Through => "through",
             };
-            let direction = match direction {
-                Direction::Clockwise => "clockwise",
-                Direction::Counterclockwise => "counterclockwise",
-            };
-            format!(
-                "{shape} {direction} around {} ({} waypoints)",
-                around.label,
-                waypoints.len()
-            )
+            match direction {
+                Some(d) => {
+                    let d = match d {
+                        Direction::Clockwise => "clockwise",
+                        Direction::Counterclockwise => "counterclockwise",
+                    };
+                    format!(
+                        "{shape} {d} around {} ({} waypoints)",
+                        around.label,
+                        waypoints.len()
+                    )
+                }
+                None => format!("{shape} {} ({} waypoints)", around.label, waypoints.len()),
+            }
         }
         ConstraintKind::Clearance { distance_m } => format!("clearance {}", metres(*distance_m)),
     }

@@ -326,6 +326,7 @@ impl Grounder<'_, '_> {
                 let (dir, wps) = self.loop_shape(&c.value, ask);
                 self.shape(c, Shape::Circle, dir, &x, wps)?
             }
+            Pref::Through(xs) => self.through(c, &xs)?,
             Pref::FollowWall(w) | Pref::Patrol(w) => {
                 let x = PlaceVal::Room(w.room);
                 // A patrol ends at the doorway used to leave the room.
@@ -429,7 +430,7 @@ impl Grounder<'_, '_> {
             .collect();
         Some(ConstraintKind::PathShape {
             shape,
-            direction,
+            direction: Some(direction),
             around: self.ir_place(around),
             waypoints,
         })
@@ -465,7 +466,7 @@ impl Grounder<'_, '_> {
     }
 
     /// One place for a non-empty list: itself when single, else a union region.
-    fn union_place(&self, ps: &[PlaceVal]) -> Place {
+    pub(super) fn union_place(&self, ps: &[PlaceVal]) -> Place {
         if ps.len() == 1 {
             return self.ir_place(&ps[0]);
         }

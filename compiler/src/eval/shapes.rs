@@ -1,15 +1,15 @@
-//! Path shapes (`circle`, `follow_wall`, `patrol`): their waypoints, how far round they go, and
-//! which way round when the instruction does not say.
+//! Path shapes (`circle`, `follow_wall`, `patrol`, `through`): their waypoints, how far round
+//! they go, and which way round when the instruction does not say.
 //!
 //! A direction the writer left out is never guessed: both ways are built and the shorter one is
 //! taken (for `follow_wall(..., passing: x)`, the way whose waypoints come nearest `x`); the
 //! choice is recorded as a route binding (`follow_wall` -> `clockwise (shorter: 7.9 m vs 9.4 m)`),
 //! so the IR and `m2rc compile` say which was picked.
 
-use super::Grounder;
 use super::value::PlaceVal;
-use crate::ir::Direction;
-use m2rc_grammar::ast::Expr;
+use super::{Grounder, Problem, codes};
+use crate::ir::{CellSet, ConstraintKind, Construction, Direction, Place, PlaceKind, Shape};
+use m2rc_grammar::ast::{self, Expr};
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::query::{MapQuery, Target, WaypointShape, loop_waypoints};
 
@@ -143,5 +143,56 @@ impl Direction {
             Direction::Clockwise => "clockwise",
             Direction::Counterclockwise => "counterclockwise",
         }
+    }
+}
+
+/// How close `through` passes an object or a region (the reach of "pass by").
+pub(super) const THROUGH_REACH_M: f64 = 0.5;
+
+impl Grounder<'_, '_> {
+    /// `through(a, b, ...)`: one waypoint per place, in the writer's order. An object or a region
+    /// is passed within [`THROUGH_REACH_M`] of it, a room by entering its floor; only free floor
+    /// counts, since a waypoint nobody can stand on could never be passed.
+    pub(super) fn through(
+        &mut self,
+        c: &ast::Constraint,
+        places: &[PlaceVal],
+    ) -> Option<ConstraintKind> {
+        let q = self.q;
+        let mut waypoints = Vec::with_capacity(places.len());
+        for (i, p) in places.iter().enumerate() {
+            let t = p.target(q);
+            let mut cells: Vec<Cell> = match p {
+                PlaceVal::Room(_) => q.cells(t).to_vec(),
+                _ => q.area_near(t, THROUGH_REACH_M),
+            };
+            cells.retain(|&x| q.is_traversable(x));
+            let label = p.label(q);
+            if cells.is_empty() {
+                self.problems.push(Problem::error(
+                    codes::EMPTY_PLACE,
+                    c.value.span,
+                    format!("no free floor within {THROUGH_REACH_M} m of {label} to pass by"),
+                ));
+                return None;
+            }
+            waypoints.push(Place {
+                kind: PlaceKind::Region {
+                    construction: Construction {
+                        kind: "waypoint".into(),
+                        from: vec![label.clone()],
+                        radius_m: (!matches!(p, PlaceVal::Room(_))).then_some(THROUGH_REACH_M),
+                    },
+                },
+                label: format!("waypoint {}: by {label}", i + 1),
+                cells: CellSet::new(cells),
+            });
+        }
+        Some(ConstraintKind::PathShape {
+            shape: Shape::Through,
+            direction: None,
+            around: self.union_place(places),
+            waypoints,
+        })
     }
 }

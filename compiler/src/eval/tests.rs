@@ -246,3 +246,46 @@ fn missing_start_is_a_diagnostic_not_a_panic() {
     );
     assert!(g.problems.iter().all(|p| p.code != codes::START_MOVED));
 }
+
+#[test]
+fn through_keeps_the_written_order_and_free_floor_near_each_place() {
+    let src = |a: &str, b: &str| {
+        format!(
+            "route {{ go objects(fridge).nearest() {{ prefer through(objects({a}).only(), objects({b}).only()) }} }}"
+        )
+    };
+    let map = two_rooms();
+    let q = MapQuery::new(&map);
+    let chain = |s: String| {
+        let ir = ir(&s);
+        let ConstraintKind::PathShape {
+            shape,
+            direction,
+            waypoints,
+            ..
+        } = ir.constraints[0].kind.clone()
+        else {
+            panic!("{:?}", ir.constraints[0].kind)
+        };
+        assert_eq!(shape, crate::ir::Shape::Through);
+        assert_eq!(direction, None, "a chain has no turning sense");
+        waypoints
+    };
+    let forward = chain(src("bed", "lamp"));
+    let backward = chain(src("lamp", "bed"));
+    assert_eq!(forward.len(), 2);
+    assert_eq!(forward[0].cells, backward[1].cells);
+    assert_eq!(forward[1].cells, backward[0].cells);
+    for (w, cat) in forward.iter().zip(["bed", "lamp"]) {
+        let o = map.objects.iter().find(|o| o.category == cat).unwrap();
+        let near = q.area_near(m2rc_stdlib::query::Target::Object(o), 0.5);
+        assert!(!w.cells.cells().is_empty());
+        for &c in w.cells.cells() {
+            assert!(q.is_traversable(c), "{cat}: {c:?} is not free floor");
+            assert!(
+                near.binary_search(&c).is_ok(),
+                "{cat}: {c:?} is beyond 0.5 m"
+            );
+        }
+    }
+}

@@ -87,6 +87,8 @@ pub enum Pref {
     Circle(PlaceVal, Option<Direction>),
     FollowWall(WallFollow),
     Patrol(WallFollow),
+    /// Places to pass by in this order.
+    Through(Vec<PlaceVal>),
     Clearance(f64),
 }
 

@@ -13,7 +13,7 @@
 //!   dropped.
 
 use super::syntax::{Formula, Kind};
-use crate::ir::{ConstraintKind, Place, PlaceKind, RouteIr, StageScope};
+use crate::ir::{ConstraintKind, Place, PlaceKind, RouteIr, Shape, StageScope};
 
 /// What an atom stands for, so a planner can build its mask.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -285,8 +285,13 @@ pub fn lower(ir: &RouteIr) -> LtlRoute {
                         waypoints,
                         ..
                     } => format!(
-                        "prefer {} around {} ({} waypoints)",
+                        "prefer {} {} {} ({} waypoints)",
                         format!("{shape:?}").to_lowercase(),
+                        if *shape == Shape::Through {
+                            "by"
+                        } else {
+                            "around"
+                        },
                         around.label,
                         waypoints.len()
                     ),

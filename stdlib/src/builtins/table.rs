@@ -710,6 +710,18 @@ pub static BUILTINS: &[Builtin] = &[
         "prefer patrol(start.room(), counterclockwise)",
     ),
     free(
+        "through",
+        &[
+            p("a", PLACE, Required),
+            p("b", PLACE, Required),
+            p("c", PLACE, Optional),
+            p("d", PLACE, Optional),
+        ],
+        PREF,
+        "Pass close by `a`, then `b` (then `c`, then `d`) in this order: within 0.5 m of an object or region, inside a room.",
+        "prefer through(sofa, lamp, desk) within living",
+    ),
+    free(
         "clearance",
         &[p("min", DISTANCE, Default(DefaultValue::Distance(0.5)))],
         PREF,

@@ -4,7 +4,7 @@
 //! the geometry says it can be met clearly better than that route meets it, judged with the
 //! generator's own tools (distance fields over the leg's legal free space and the plain
 //! shortest-path search of [`super::paths`]), never with a planner or cost model that is being
-//! benchmarked. For each kind ([`near`], [`far`], [`relative`], [`shape`]) a *witness* route is
+//! benchmarked. For each kind ([`near`], [`far`], [`relative`], [`shape`], [`through`]) a *witness* route is
 //! built (a legal detour that serves the preference) and compared with the reference route, in
 //! the evaluator's scored window and region R; the preference is kept only when the witness is
 //! better by a clear margin. Objects next to the destination (its support, what stands on it,
@@ -21,12 +21,15 @@ pub mod far;
 pub mod near;
 pub mod relative;
 pub mod shape;
+pub mod through;
 
 use super::generate::Scene;
 use super::paths::PassMask;
 use super::plan::{RoomScope, Stage};
 use super::refs::{ObjRef, room_descriptions};
 use m2rc_stdlib::grid::Cell;
+use rand::seq::SliceRandom;
+use rand_chacha::ChaCha8Rng;
 use std::collections::HashSet;
 
 /// R must hold this many waypoints of the reference route's scored window.
@@ -216,6 +219,23 @@ impl<'a> Scene<'a> {
             }
         }
         out
+    }
+
+    /// The floor-standing subjects of `room`, shuffled: a path shape goes around or past an
+    /// object on the floor, never one standing on furniture.
+    pub(crate) fn floor_subjects(
+        &self,
+        rng: &mut ChaCha8Rng,
+        leg: &LegCtx<'_>,
+        room: u32,
+    ) -> Vec<u32> {
+        let mut pool: Vec<u32> = self
+            .subjects(leg, room)
+            .into_iter()
+            .filter(|&o| self.ix.object(o).parent.is_none())
+            .collect();
+        pool.shuffle(rng);
+        pool
     }
 
     /// The first `n` cells of a route up to (and including) its first cell in the leg's goal:

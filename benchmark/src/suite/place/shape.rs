@@ -7,7 +7,9 @@
 //!   on its shape, not on its absence);
 //! * **patrol** the start room (first leg only) along its walls, clockwise or counterclockwise,
 //!   ending at the doorway the reference route leaves by: the language's `patrol`;
-//! * **follow the walls** of the start room once around: the language's `follow_wall`.
+//! * **follow the walls** of the start room once around: the language's `follow_wall`;
+//! * **weave past** two or three objects of a room in order: the language's `through`
+//!   ([`super::through`]).
 //!
 //! Wall loops use the waypoints of the stdlib's `loop_waypoints` (the compiler's own), joined
 //! by shortest paths over the room's free floor.
@@ -18,7 +20,6 @@ use crate::suite::plan::{Pref, RoomScope, ShapeKind, ShapePlan, SoftPlan};
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::query::{MapQuery, Target, WaypointShape, loop_waypoints};
 use rand::Rng;
-use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 
 /// Distance from an object's outline to its circle, metres (the language's `circle`).
@@ -27,6 +28,8 @@ const CIRCLE_OFFSET_M: f64 = 0.45;
 const LOOP_SLACK_CELLS: f64 = 10.0;
 /// Share of the ideal ring that must be free floor of the object's room.
 const MIN_FREE_RING: f64 = 0.9;
+/// Share of path-shape slots (outside a start-room wall loop) that try `through` first.
+const THROUGH_SHARE: f64 = 0.35;
 /// The reference route must have this many waypoints in a circle's R.
 const MIN_CROSSING: usize = 5;
 
@@ -38,6 +41,7 @@ impl<'a> Scene<'a> {
         scopes: &[ScopeRoom],
     ) -> Option<SoftPlan> {
         let clockwise = rng.random_bool(0.4);
+        let through_first = rng.random_bool(THROUGH_SHARE);
         let start = scopes.iter().find(|s| s.scope == RoomScope::Start);
         if let Some(s) = start
             && rng.random_bool(0.5)
@@ -49,6 +53,13 @@ impl<'a> Scene<'a> {
             };
             if let Some(p) = self.wall_loop(leg, s, kind, clockwise) {
                 return Some(p);
+            }
+        }
+        if through_first {
+            for s in scopes {
+                if let Some(p) = self.place_through(rng, leg, s) {
+                    return Some(p);
+                }
             }
         }
         for s in scopes {
@@ -68,12 +79,7 @@ impl<'a> Scene<'a> {
     ) -> Option<SoftPlan> {
         let ix = &self.ix;
         let res = ix.resolution();
-        let mut pool: Vec<u32> = self
-            .subjects(leg, scope.room)
-            .into_iter()
-            .filter(|&o| ix.object(o).parent.is_none())
-            .collect();
-        pool.shuffle(rng);
+        let pool = self.floor_subjects(rng, leg, scope.room);
         for o in pool.into_iter().take(12) {
             let (ring, free_share) = self.ring(o, clockwise, leg.view.from);
             if ring.len() < 12
@@ -116,6 +122,7 @@ impl<'a> Scene<'a> {
                 pref: Pref::Shape(Box::new(ShapePlan {
                     kind: ShapeKind::Circle,
                     object: Some((o, desc)),
+                    via: Vec::new(),
                     clockwise,
                     reference: ring,
                     area,
@@ -180,6 +187,7 @@ impl<'a> Scene<'a> {
             pref: Pref::Shape(Box::new(ShapePlan {
                 kind,
                 object: None,
+                via: Vec::new(),
                 clockwise,
                 reference,
                 area: floor,

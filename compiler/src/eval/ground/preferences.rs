@@ -13,6 +13,7 @@ pub(super) fn lookup(row: &Builtin) -> Option<GroundFn> {
         "near" | "far" => Some(near_far),
         "closer" => Some(closer),
         "circle" | "follow_wall" | "patrol" => Some(path_shape),
+        "through" => Some(through),
         "clearance" => Some(clearance),
         _ => None,
     }
@@ -57,6 +58,16 @@ fn path_shape(g: &mut Grounder, c: Call) -> Value {
         }
         _ => g.unsupported(c.e),
     }
+}
+
+fn through(_: &mut Grounder, c: Call) -> Value {
+    let places = (0..4)
+        .filter_map(|i| match c.arg(i) {
+            Some(Value::Place(p)) => Some(p),
+            _ => None,
+        })
+        .collect();
+    Value::Pref(Pref::Through(places))
 }
 
 fn clearance(_: &mut Grounder, c: Call) -> Value {
