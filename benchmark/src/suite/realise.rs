@@ -352,6 +352,16 @@ pub fn leg(sp: &mut Speaker<'_>, dest: &str) -> String {
     fill(t, &[("t", dest)])
 }
 
+/// A leg qualifier for a conditional destination, which must not be named (the same number of
+/// choices as [`leg`], so the draw after it is the same).
+pub fn leg_there(sp: &mut Speaker<'_>) -> String {
+    sp.pick(
+        "leg.there",
+        &["on the way there", "while heading there", "as you go there"],
+    )
+    .to_string()
+}
+
 /// The last destination when it is the start again.
 pub fn return_to_start(sp: &mut Speaker<'_>) -> String {
     let t = sp.pick(

@@ -230,6 +230,9 @@ impl<'a> Scene<'a> {
             let leg_phrase = |sp: &mut Speaker<'_>| {
                 if back {
                     realise::leg_back(sp)
+                } else if matches!(stage.dest, Dest::Conditional { .. }) {
+                    // Naming the target would give away which branch of the condition holds.
+                    realise::leg_there(sp)
                 } else if n > 1 {
                     realise::leg(sp, short)
                 } else {
