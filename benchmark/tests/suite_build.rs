@@ -201,3 +201,45 @@ fn other_ones_doorways_and_returns_are_annotated_as_their_programs_say() {
         "{others} other-ones, {doorways} doorways, {returns} returns"
     );
 }
+
+/// Same houses, same config, same bytes: every file of two builds into different directories is
+/// identical (no clock, no hash-map order, no output path leaks into a suite).
+#[test]
+fn a_suite_built_twice_is_the_same_bytes() {
+    let houses = shared().join("houses/procthor10k_uniform_hard_val_150.jsonl.gz");
+    let config = SuiteConfig {
+        scenes: 1,
+        episodes_per_scene: 4,
+        ..small_config()
+    };
+    let dirs = [tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap()];
+    for d in &dirs {
+        build_suite(&houses, &config, &tools(&[]), d.path(), &|_, _| {}).unwrap();
+    }
+    let files = |root: &std::path::Path| {
+        let mut out = std::collections::BTreeMap::new();
+        let mut stack = vec![root.to_path_buf()];
+        while let Some(dir) = stack.pop() {
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    stack.push(path);
+                } else {
+                    let rel = path.strip_prefix(root).unwrap().to_path_buf();
+                    out.insert(rel, std::fs::read(&path).unwrap());
+                }
+            }
+        }
+        out
+    };
+    let (a, b) = (files(dirs[0].path()), files(dirs[1].path()));
+    assert!(a.len() > 4, "only {} files", a.len());
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    for (path, bytes) in &a {
+        assert!(
+            bytes == &b[path],
+            "{} differs between two builds",
+            path.display()
+        );
+    }
+}
