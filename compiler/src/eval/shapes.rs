@@ -172,7 +172,12 @@ impl Grounder<'_, '_> {
                 self.problems.push(Problem::error(
                     codes::EMPTY_PLACE,
                     c.value.span,
-                    format!("no free floor within {THROUGH_REACH_M} m of {label} to pass by"),
+                    match p {
+                        PlaceVal::Room(_) => format!("{label} has no free floor to pass through"),
+                        _ => format!(
+                            "no free floor within {THROUGH_REACH_M} m of {label} to pass by"
+                        ),
+                    },
                 ));
                 return None;
             }
