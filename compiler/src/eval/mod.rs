@@ -23,6 +23,7 @@ mod shapes;
 mod value;
 
 pub use problem::{Level, Problem};
+pub use shapes::THROUGH_REACH_M;
 pub use value::{PlaceVal, Pref, Region, Value, WallFollow};
 
 use crate::check::{CheckResult, Resolution};

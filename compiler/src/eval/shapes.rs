@@ -147,7 +147,7 @@ impl Direction {
 }
 
 /// How close `through` passes an object or a region (the reach of "pass by").
-pub(super) const THROUGH_REACH_M: f64 = 0.5;
+pub const THROUGH_REACH_M: f64 = 0.5;
 
 impl Grounder<'_, '_> {
     /// `through(a, b, ...)`: one waypoint per place, in the writer's order. An object or a region

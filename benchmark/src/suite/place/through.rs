@@ -15,13 +15,12 @@ use crate::metrics::ndtw::ndtw;
 use crate::suite::generate::Scene;
 use crate::suite::paths::PassMask;
 use crate::suite::plan::{Pref, ShapeKind, ShapePlan, SoftPlan, Subject};
+use m2rc_compiler::eval::THROUGH_REACH_M as REACH_M;
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::query::Target;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-/// The language's reach of `through` around an object, m (`compiler::eval::shapes`).
-const REACH_M: f64 = 0.5;
 /// Each object keeps at least this far from the reference route, m.
 const OFF_ROUTE_M: f64 = 1.5;
 /// The objects keep at least this far from each other, m.
