@@ -74,6 +74,11 @@ fn builds_a_small_suite_from_real_houses() {
     }
     let md = m2rc_benchmark::suite::stats::stats_markdown(&stats);
     assert!(md.contains("| words per instruction |") && md.contains("circular references"));
+    assert!(md.contains("| preference subjects named like a destination | 0 | 0 |"));
+    // Every scene has walls, which outnumber every other category.
+    let head = &stats.uniform_head_candidates;
+    assert!(head.without_building_parts >= 1.0, "{head:?}");
+    assert!(head.all_objects > head.without_building_parts, "{head:?}");
 }
 
 /// The annotation of what the generator now places: a path-shape preference is measured in an

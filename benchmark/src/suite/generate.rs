@@ -161,8 +161,8 @@ fn soft_count(rng: &mut ChaCha8Rng, d: Difficulty) -> usize {
 /// as near the paper's as the houses allow.
 fn soft_kinds(rng: &mut ChaCha8Rng, d: Difficulty) -> Vec<&'static str> {
     let w: [f64; 4] = match d {
-        Difficulty::Easy => [1000.0, 420.0, 480.0, 40.0],
-        Difficulty::Hard => [900.0, 420.0, 260.0, 220.0],
+        Difficulty::Easy => [1200.0, 420.0, 580.0, 35.0],
+        Difficulty::Hard => [1200.0, 420.0, 260.0, 190.0],
     };
     let kinds = ["near", "far", "relative", "path_shape"];
     // Efraimidis-Spirakis: sorting by u^(1/w) draws a weighted order without replacement.
@@ -340,6 +340,10 @@ impl<'a> Scene<'a> {
         let mut legs: Vec<Option<LegCtx<'_>>> = (0..stages.len()).map(|_| None).collect();
         let mut scopes: Vec<Option<Vec<ScopeRoom>>> = (0..stages.len()).map(|_| None).collect();
         let mut placed: Vec<(usize, SoftPlan)> = Vec::new();
+        let mentioned = super::place::Mentioned {
+            categories: super::place::named_categories(&self.ix, &stages),
+            objects: Default::default(),
+        };
         for _ in 0..soft_wanted {
             let kinds = soft_kinds(rng, difficulty);
             let mut order: Vec<usize> = (0..stages.len()).collect();
@@ -360,7 +364,14 @@ impl<'a> Scene<'a> {
                         continue;
                     }
                     let leg: &LegCtx<'_> = legs[k].get_or_insert_with(|| {
-                        self.leg_ctx(k, &stages[k], &views[k], &forbidden[k], start_room)
+                        self.leg_ctx(
+                            k,
+                            &stages[k],
+                            &views[k],
+                            &forbidden[k],
+                            start_room,
+                            &mentioned,
+                        )
                     });
                     let rooms_for_leg = scopes[k].get_or_insert_with(|| self.scope_rooms(leg));
                     let free: Vec<&ScopeRoom> = rooms_for_leg
@@ -385,7 +396,10 @@ impl<'a> Scene<'a> {
                 }
             }
             match found {
-                Some(f) => placed.push(f),
+                Some(f) => {
+                    mentioned.objects.borrow_mut().extend(f.1.subject_ids());
+                    placed.push(f);
+                }
                 None => break,
             }
         }

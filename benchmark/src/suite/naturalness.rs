@@ -8,7 +8,12 @@
 //!   house with one bathroom);
 //! * circular references: a chain naming one category twice ("the sink closest to the toilet
 //!   closest to the sink");
-//! * rooms described more than once in one episode (instead of "that room").
+//! * rooms described more than once in one episode (instead of "that room");
+//! * preference subjects of a category a destination names ("go to the spray bottle that is not
+//!   on a shelf", then "stay closer to the spray bottle than to the mug" about another one),
+//!   which a reader takes for the destination's own;
+//! * objects that are the subject of two preferences (said twice, perhaps in other words, it
+//!   reads as two things), counted from the episode's soft constraints.
 
 use serde::Serialize;
 use serde_json::Value;
@@ -19,6 +24,8 @@ pub struct Naturalness {
     pub singleton_superlatives: usize,
     pub circular_references: usize,
     pub rooms_described_more_than_once: usize,
+    pub preference_subjects_named_like_a_destination: usize,
+    pub objects_in_two_preferences: usize,
 }
 
 impl Naturalness {
@@ -27,6 +34,36 @@ impl Naturalness {
             + self.singleton_superlatives
             + self.circular_references
             + self.rooms_described_more_than_once
+            + self.preference_subjects_named_like_a_destination
+            + self.objects_in_two_preferences
+    }
+
+    /// Adds the objects that more than one of an episode's `soft_constraints` is about.
+    pub fn add_soft(&mut self, soft_constraints: Option<&Value>) {
+        let mut ids: Vec<u64> = soft_constraints
+            .and_then(Value::as_array)
+            .map(Vec::as_slice)
+            .unwrap_or(&[])
+            .iter()
+            .flat_map(|c| {
+                let mut own: Vec<u64> = c
+                    .get("object_ids")
+                    .and_then(Value::as_array)
+                    .map(|a| a.iter().filter_map(Value::as_u64).collect())
+                    .unwrap_or_default();
+                own.sort_unstable();
+                own.dedup();
+                own
+            })
+            .collect();
+        ids.sort_unstable();
+        let mut repeated: Vec<u64> = ids
+            .windows(2)
+            .filter(|w| w[0] == w[1])
+            .map(|w| w[0])
+            .collect();
+        repeated.dedup();
+        self.objects_in_two_preferences += repeated.len();
     }
 
     /// Adds the counts of one episode's generation record.
@@ -46,12 +83,32 @@ impl Naturalness {
             v.sort();
             v.windows(2).any(|w| w[0] == w[1])
         };
-        for r in g
+        let refs = g
             .get("references")
             .and_then(Value::as_array)
             .map(Vec::as_slice)
-            .unwrap_or(&[])
-        {
+            .unwrap_or(&[]);
+        let role = |r: &Value| {
+            r.get("role")
+                .and_then(Value::as_str)
+                .unwrap_or("")
+                .to_string()
+        };
+        let named: Vec<String> = refs
+            .iter()
+            .filter(|r| role(r).starts_with("destination"))
+            .flat_map(|r| strings(r, "object_categories"))
+            .collect();
+        self.preference_subjects_named_like_a_destination += refs
+            .iter()
+            .filter(|r| role(r).ends_with("preference"))
+            .filter(|r| {
+                r.get("category")
+                    .and_then(Value::as_str)
+                    .is_some_and(|c| named.iter().any(|n| n == c))
+            })
+            .count();
+        for r in refs {
             if has_repeat(strings(r, "room_categories")) {
                 self.stacked_same_category_rooms += 1;
             }
@@ -90,7 +147,10 @@ mod tests {
             "references": [
                 {"room_categories": ["living_room", "living_room"], "object_categories": ["chair"], "superlative_over": [2, 2]},
                 {"room_categories": [], "object_categories": ["sink", "toilet", "sink"], "superlative_over": [1]},
-                {"room_categories": ["bedroom"], "object_categories": ["bed"], "superlative_over": []},
+                {"role": "destination 1", "category": "bed", "room_categories": ["bedroom"], "object_categories": ["bed", "pillow"], "superlative_over": []},
+                {"role": "near preference", "category": "pillow", "room_categories": [], "object_categories": ["pillow"], "superlative_over": []},
+                {"role": "far preference", "category": "sofa", "room_categories": [], "object_categories": ["sofa"], "superlative_over": []},
+                {"role": "must-avoid", "category": "bed", "room_categories": [], "object_categories": ["bed"], "superlative_over": []},
             ],
             "room_descriptions": {"3": 2, "4": 1},
         })));
@@ -101,8 +161,18 @@ mod tests {
                 singleton_superlatives: 1,
                 circular_references: 1,
                 rooms_described_more_than_once: 1,
+                preference_subjects_named_like_a_destination: 1,
+                objects_in_two_preferences: 0,
             }
         );
-        assert_eq!(n.total(), 4);
+        assert_eq!(n.total(), 5);
+        // Object 4 is in two preferences (a through passing 4 and 9 counts it once itself).
+        n.add_soft(Some(&json!([
+            {"object_ids": [4]},
+            {"object_ids": [4, 9, 4]},
+            {"object_ids": [7]},
+            {"object_ids": []},
+        ])));
+        assert_eq!(n.objects_in_two_preferences, 1);
     }
 }

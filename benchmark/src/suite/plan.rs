@@ -165,6 +165,20 @@ pub struct SoftPlan {
 }
 
 impl SoftPlan {
+    /// The objects the preference is about (a shape's circled or passed objects included).
+    pub fn subject_ids(&self) -> Vec<u32> {
+        match &self.pref {
+            Pref::Near(s) | Pref::Far(s) => s.ids(),
+            Pref::Relative(a, b) => a.ids().into_iter().chain(b.ids()).collect(),
+            Pref::Shape(shape) => shape
+                .object
+                .iter()
+                .map(|(id, _)| *id)
+                .chain(shape.via.iter().flat_map(Subject::ids))
+                .collect(),
+        }
+    }
+
     pub fn kind(&self) -> &'static str {
         match &self.pref {
             Pref::Near(..) => "near",

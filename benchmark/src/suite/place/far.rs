@@ -38,7 +38,10 @@ impl<'a> Scene<'a> {
             .fixtures_of("window")
             .iter()
             .copied()
-            .filter(|&w| ix.object_room(w) == Some(scope.room))
+            .filter(|&w| {
+                ix.object_room(w) == Some(scope.room)
+                    && !leg.mentioned.objects.borrow().contains(&w)
+            })
             .filter(|&w| {
                 ix.object(w)
                     .footprint

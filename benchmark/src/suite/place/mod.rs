@@ -30,6 +30,7 @@ use super::refs::{ObjRef, room_descriptions};
 use m2rc_stdlib::grid::Cell;
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
+use std::cell::RefCell;
 use std::collections::HashSet;
 
 /// R must hold this many waypoints of the reference route's scored window.
@@ -68,6 +69,15 @@ pub struct LegCtx<'s> {
     pub from_start: std::cell::OnceCell<m2rc_stdlib::query::TravelField>,
     /// Cells within [`KEEP_OFF_GOAL_M`] of the goal region or of the leg's start.
     pub keep_off: Vec<bool>,
+    pub mentioned: &'s Mentioned,
+}
+
+/// What the episode already talks about, which a preference subject must not be.
+pub struct Mentioned {
+    /// Object categories the episode's destinations name ([`named_categories`]).
+    pub categories: HashSet<String>,
+    /// Objects earlier preferences of the episode are about: each is described once.
+    pub objects: RefCell<HashSet<u32>>,
 }
 
 /// A room R a preference of the leg may be measured in, with the reference window inside it.
@@ -85,6 +95,7 @@ impl<'a> Scene<'a> {
         view: &'s LegView,
         forbidden: &[usize],
         start_room: u32,
+        mentioned: &'s Mentioned,
     ) -> LegCtx<'s> {
         let ix = &self.ix;
         let n = ix.map.n();
@@ -109,6 +120,7 @@ impl<'a> Scene<'a> {
             to_goal,
             from_start: std::cell::OnceCell::new(),
             keep_off,
+            mentioned,
         }
     }
 
@@ -188,11 +200,16 @@ impl<'a> Scene<'a> {
             .any(|&i| reach.get(i).copied().unwrap_or(false))
     }
 
-    /// Objects of `room` that may be the subject of a preference on this leg.
+    /// Objects of `room` that may be the subject of a preference on this leg: never of a
+    /// category a destination of the episode names, in any room. "Go to the spray bottle that
+    /// is not on a shelf" and, on another leg, "stay closer to the spray bottle than to the mug"
+    /// reads as the same spray bottle, whatever room the second is scoped to. Nor of an object
+    /// an earlier preference is about: "stay close to the trash can", then on another leg "stay
+    /// as close to the bin as you can", reads as two things.
     pub(crate) fn subjects(&self, leg: &LegCtx<'_>, room: u32) -> Vec<u32> {
         let ix = &self.ix;
         let stage = leg.stage;
-        let dest_cats: HashSet<String> = stage_cats(stage);
+        let used = leg.mentioned.objects.borrow();
         let mut out: Vec<u32> = Vec::new();
         for ids in ix.objects_by_cat.values() {
             for &o in ids {
@@ -205,7 +222,8 @@ impl<'a> Scene<'a> {
                     obj.parent.is_some_and(|p| p.id == d)
                         || ix.object(d).parent.is_some_and(|p| p.id == o)
                 });
-                if related || (room == stage.room && dest_cats.contains(&obj.category)) {
+                if related || leg.mentioned.categories.contains(&obj.category) || used.contains(&o)
+                {
                     continue;
                 }
                 if obj
@@ -362,8 +380,23 @@ impl<'a> Scene<'a> {
     }
 }
 
-/// Categories the destination's description names (its anchors and parents), which are never
-/// preference subjects in its room.
+/// Object categories the destinations of an episode name: each destination's own category and
+/// those its description names (anchors, supports), none of which may be a preference subject.
+pub fn named_categories(ix: &super::index::MapIndex<'_>, stages: &[Stage]) -> HashSet<String> {
+    let mut out = HashSet::new();
+    for stage in stages {
+        out.extend(stage_cats(stage));
+        for &o in &stage.anchor_objects {
+            out.insert(ix.object(o).category.clone());
+        }
+        if let super::plan::Dest::Other { cat, .. } = &stage.dest {
+            out.insert(cat.clone());
+        }
+    }
+    out
+}
+
+/// Categories the destination's description names (its anchors and parents).
 fn stage_cats(stage: &Stage) -> HashSet<String> {
     use super::plan::Dest;
     let descs: Vec<&ObjRef> = match &stage.dest {
