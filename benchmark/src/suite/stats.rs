@@ -13,9 +13,6 @@ use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// Parts of the building, which the map lists as objects.
-const BUILDING_PARTS: [&str; 4] = ["wall", "doorway", "doorframe", "window"];
-
 /// Summary of a numeric sample.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Summary {
@@ -363,7 +360,7 @@ pub fn suite_stats(dir: &Path, split: &str) -> Result<SuiteStats, SuiteError> {
         head_things += size_biased_mean(
             by_cat
                 .iter()
-                .filter(|(c, _)| !BUILDING_PARTS.contains(c))
+                .filter(|(c, _)| !m2rc_stdlib::map::vocab::is_structure(c))
                 .map(|(_, n)| n),
         );
         rooms += v
