@@ -153,7 +153,7 @@ fn oracle_is_perfect_and_shortest_loses_on_preferences() {
         // reference cost model the oracle uses, so the oracle wins a smaller share of them. So
         // with path shapes: the oracle plans a circle through its waypoints, as the reference
         // does, and the clearance term pulls the loop off the canonical ring; on the default
-        // suite it is better on 88 of 104 circles (and on all 129 walls, patrols and through
+        // suite it is better on 75 of 88 circles (and on 116 of 117 walls, patrols and through
         // chains), and a 40-episode suite holds a handful. A majority is required there, two
         // thirds elsewhere.
         let (num, den) = if kind == "near_preference" || kind == "geometric_path_preference" {

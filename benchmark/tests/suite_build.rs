@@ -79,6 +79,14 @@ fn builds_a_small_suite_from_real_houses() {
     let head = &stats.uniform_head_candidates;
     assert!(head.without_building_parts >= 1.0, "{head:?}");
     assert!(head.all_objects > head.without_building_parts, "{head:?}");
+    // The paper's candidate means scaled by these scenes' object count over its 284.675.
+    let [pe, ph] = stats.paper_candidates_at_this_scene_size;
+    let scale = stats.objects_per_scene / 284.675;
+    assert!(
+        (pe - 6.3 * scale).abs() < 0.01 && (ph - 8.45 * scale).abs() < 0.01,
+        "{pe} {ph}"
+    );
+    assert!(md.contains("Scaled to "), "{md}");
 }
 
 /// The annotation of what the generator now places: a path-shape preference is measured in an
@@ -178,7 +186,7 @@ fn other_ones_doorways_and_returns_are_annotated_as_their_programs_say() {
         &|_, _| {},
     )
     .unwrap();
-    let (mut others, mut doorways, mut returns) = (0, 0, 0);
+    let (mut others, mut doorways, mut returns, mut windows) = (0, 0, 0, 0);
     for e in &m.episodes {
         let text = std::fs::read_to_string(dir.path().join(&e.file)).unwrap();
         let ep: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -187,7 +195,18 @@ fn other_ones_doorways_and_returns_are_annotated_as_their_programs_say() {
         let passes: Vec<&serde_json::Value> =
             hard.iter().filter(|h| h["kind"] == "must_pass").collect();
         others += program.matches(".except(t").count();
+        // "The other one" is said right after the sentence that sends the robot to its pair's
+        // first member, never after a preference that would become its antecedent.
+        let clauses = ep["m2rc_generation"]["clauses"].as_array().unwrap();
+        for w in clauses.windows(2) {
+            if w[1]["text"].as_str().unwrap().contains("the other one") {
+                let before = w[0]["program"].as_str().unwrap();
+                assert!(before.starts_with("go t"), "{}: after {before:?}", e.file);
+            }
+        }
         doorways += program.matches("doorways_between(").count();
+        // A window destination is a must-pass region like any object's, and it was validated.
+        windows += program.matches("= objects(window)").count();
         if program.contains("\n  go start") {
             returns += 1;
             let last = passes.last().unwrap();
@@ -200,7 +219,12 @@ fn other_ones_doorways_and_returns_are_annotated_as_their_programs_say() {
             );
         }
     }
-    eprintln!("{others} other-ones, {doorways} doorways, {returns} returns");
+    eprintln!("{others} other-ones, {doorways} doorways, {returns} returns, {windows} windows");
+    assert!(
+        windows > 0,
+        "no window destination in {} episodes",
+        m.episodes.len()
+    );
     assert!(
         others + doorways + returns > 0,
         "{others} other-ones, {doorways} doorways, {returns} returns"

@@ -119,7 +119,7 @@ impl<'a> Scene<'a> {
                     .q
                     .corridor(Target::Object(oa), Target::Object(ix.object(b)));
                 if let Some(cells) = region(cells)
-                    && let (Some(da), Some(db)) = (describe(a, rng), describe(b, rng))
+                    && let Some((da, db)) = self.pair_descriptions(rng, a, b, 2)
                 {
                     return Some(Avoid {
                         place: AvoidPlace::Between(da, db),

@@ -15,7 +15,11 @@ use rand_chacha::ChaCha8Rng;
 /// Minimum spacing of consecutive destinations, cells (Map2Route `TEMPLATE_MIN_DISTANCE`).
 const MIN_TARGET_SPACING: f64 = 40.0;
 /// Candidates drawn per destination; the farthest from the previous stop is kept.
-const SPREAD: usize = 5;
+const SPREAD: usize = 4;
+/// A window is accepted as a destination this often: windows line the outer walls, so the
+/// farthest-of-[`SPREAD`] draw favours them; two of the 21 real instructions send the robot to
+/// a window.
+const WINDOW_ACCEPT: f64 = 0.5;
 /// A category with a single instance is accepted as a destination this often.
 const UNIQUE_ACCEPT: f64 = 0.2;
 /// The last destination of a route with two or more is the start again this often ("visit the
@@ -77,7 +81,8 @@ impl<'a> Scene<'a> {
                     || cells.binary_search(&start_i).is_ok()
                     || ix.object(t).room == Some(prev_room)
                     || (prev[0] - center[0]).hypot(prev[1] - center[1]) <= MIN_TARGET_SPACING
-                    || (ix.of_cat(cat).len() < 2 && !rng.random_bool(UNIQUE_ACCEPT))
+                    || (ix.all_of_cat(cat).len() < 2 && !rng.random_bool(UNIQUE_ACCEPT))
+                    || (!ix.fixtures_of(cat).is_empty() && !rng.random_bool(WINDOW_ACCEPT))
                 {
                     continue;
                 }
@@ -304,9 +309,11 @@ impl<'a> Scene<'a> {
         let res = ix.resolution();
         let room = ix.object(t).room?;
         let oa = ix.object(t);
+        // "The small area between the dining table and its nearest window" (windows too).
         let mut partners: Vec<u32> = ix
             .objects_by_cat
             .values()
+            .chain(ix.fixtures_by_cat.values())
             .flatten()
             .copied()
             .filter(|&b| {
@@ -321,15 +328,7 @@ impl<'a> Scene<'a> {
             .collect();
         partners.shuffle(rng);
         let b = *partners.first()?;
-        let pick = |o: u32, rng: &mut ChaCha8Rng| {
-            self.descriptions[&o]
-                .iter()
-                .filter(|d| d.depth() <= 2)
-                .collect::<Vec<_>>()
-                .choose(rng)
-                .map(|d| (*d).clone())
-        };
-        let (da, db) = (pick(t, rng)?, pick(b, rng)?);
+        let (da, db) = self.pair_descriptions(rng, t, b, 2)?;
         let cells = self
             .q
             .corridor(Target::Object(oa), Target::Object(ix.object(b)));

@@ -161,8 +161,8 @@ fn soft_count(rng: &mut ChaCha8Rng, d: Difficulty) -> usize {
 /// as near the paper's as the houses allow.
 fn soft_kinds(rng: &mut ChaCha8Rng, d: Difficulty) -> Vec<&'static str> {
     let w: [f64; 4] = match d {
-        Difficulty::Easy => [1200.0, 420.0, 580.0, 35.0],
-        Difficulty::Hard => [1200.0, 420.0, 260.0, 190.0],
+        Difficulty::Easy => [2600.0, 420.0, 1000.0, 30.0],
+        Difficulty::Hard => [1200.0, 500.0, 330.0, 240.0],
     };
     let kinds = ["near", "far", "relative", "path_shape"];
     // Efraimidis-Spirakis: sorting by u^(1/w) draws a weighted order without replacement.
@@ -221,7 +221,12 @@ impl<'a> Scene<'a> {
         let mut targets = BTreeMap::new();
         let mut descriptions = BTreeMap::new();
         let mut memo = DescriptionMemo::new();
-        for ids in ix.objects_by_cat.values() {
+        // Windows are destinations too ("head to the window next to the fridge").
+        for ids in ix
+            .objects_by_cat
+            .values()
+            .chain(ix.fixtures_by_cat.values())
+        {
             for &id in ids {
                 let Some((center, radius, cells)) = ix.must_pass_region(id) else {
                     continue;
@@ -276,6 +281,28 @@ impl<'a> Scene<'a> {
             .get(&id)
             .map(|d| d.iter().filter(|r| r.depth() <= max_depth).collect())
             .unwrap_or_default()
+    }
+
+    /// Descriptions of the two members of a pair ("between the sofa and the TV"), each of which
+    /// does not name the other's category: never "between the window nearest the fridge and the
+    /// fridge".
+    pub(crate) fn pair_descriptions(
+        &self,
+        rng: &mut ChaCha8Rng,
+        a: u32,
+        b: u32,
+        max_depth: u32,
+    ) -> Option<(ObjRef, ObjRef)> {
+        let pick = |o: u32, other: u32, rng: &mut ChaCha8Rng| {
+            let other_cat = self.ix.object(other).category.as_str();
+            self.describable(o, max_depth)
+                .into_iter()
+                .filter(|d| !d.object_cats().contains(&other_cat))
+                .collect::<Vec<_>>()
+                .choose(rng)
+                .map(|d| (*d).clone())
+        };
+        Some((pick(a, b, rng)?, pick(b, a, rng)?))
     }
 
     /// One plan; returns how many of the drawn preferences could not be placed, and the episode.

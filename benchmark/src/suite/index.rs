@@ -10,8 +10,8 @@ use std::sync::Mutex;
 /// Categories that are part of the building, not things one is sent to.
 pub const STRUCTURAL: &[&str] = &["wall", "doorway", "doorframe", "window", "floor", "door"];
 
-/// Radius padding of a must-pass region, metres (Map2Route `TEMPLATE_HARD_CONSTRAINT_PADDING_METERS`).
-/// Structural categories that references may still name (counted, kept away from).
+/// Structural categories that references may still name: counted, kept away from, used as
+/// anchors ("the box beside the window") and gone to ("head to the window next to the fridge").
 pub const FIXTURES: &[&str] = &["window"];
 
 /// Radius padding of a must-pass region, metres (Map2Route `TEMPLATE_HARD_CONSTRAINT_PADDING_METERS`).
@@ -26,8 +26,8 @@ pub struct MapIndex<'a> {
     pub rooms_by_cat: BTreeMap<String, Vec<u32>>,
     /// Cell indices per room id.
     pub room_cells: BTreeMap<u32, Vec<usize>>,
-    /// Structural objects a person still names, counts and keeps away from (windows), by
-    /// category: high-count categories for references and preferences, never destinations.
+    /// Structural objects a person still names, counts, keeps away from and goes to (windows),
+    /// by category.
     pub fixtures_by_cat: BTreeMap<String, Vec<u32>>,
     /// Footprint distances already computed (they are quadratic in footprint size).
     fp_cache: Mutex<HashMap<(u32, u32), f64>>,

@@ -11,6 +11,12 @@ pub struct PaperAxis {
     pub source: &'static str,
 }
 
+/// Object instances per evaluation scene (`per_scene.objects_mean`), walls, doorways and windows
+/// included.
+pub const OBJECTS_PER_SCENE: f64 = 284.675;
+/// Rooms per evaluation scene (`per_scene.rooms_mean`).
+pub const ROOMS_PER_SCENE: f64 = 8.55;
+
 const EASY: f64 = 700.0;
 const HARD: f64 = 300.0;
 

@@ -683,10 +683,7 @@ fn describe_uncached(
             .filter(|(c, _)| **c != cat)
             .flat_map(|(_, ids)| ids.iter().copied())
             .filter(|&a| {
-                o.room.is_some()
-                    && ix.object_room(a) == o.room
-                    && ix.object(a).parent.is_none()
-                    && !ix.fixtures_by_cat.contains_key(&ix.object(a).category)
+                o.room.is_some() && ix.object_room(a) == o.room && ix.object(a).parent.is_none()
             })
             .collect();
         anchors.sort_by(|&a, &b| {

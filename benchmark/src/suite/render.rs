@@ -165,7 +165,7 @@ impl<'a> Scene<'a> {
                 format!("t{}", k + 1)
             };
             if dests[k].is_none() {
-                dests[k] = Some(self.dest_text(&mut sp, &mut out, k, stage));
+                dests[k] = Some(self.dest_text(&mut sp, &mut out, k, &stages));
             }
             let (text, m2r, short) = dests[k].clone().unwrap_or_default();
             let (text, m2r, short) = (&text, &m2r, &short);
@@ -188,7 +188,7 @@ impl<'a> Scene<'a> {
                     && sp.chance(0.3);
                 let s = if pair {
                     skip_dest_sentence[k + 1] = true;
-                    let next = self.dest_text(&mut sp, &mut out, k + 1, &stages[k + 1]);
+                    let next = self.dest_text(&mut sp, &mut out, k + 1, &stages);
                     let s = realise::before_pair(&mut sp, text, &next.0);
                     dests[k + 1] = Some(next);
                     s

@@ -166,6 +166,10 @@ pub struct SuiteStats {
     /// scene's categories, averaged over scenes), with and without the parts of the building. A
     /// suite above it leans on high-count categories; the paper's houses carry more of them.
     pub uniform_head_candidates: UniformHead,
+    /// The paper's mean candidates per reference scaled by objects per scene (these scenes' over
+    /// the paper's): what the paper's references would count in houses of this size, if each
+    /// category's count grows with the house. Easy and Hard.
+    pub paper_candidates_at_this_scene_size: [f64; 2],
     pub overall: SplitStats,
     pub easy: SplitStats,
     pub hard: SplitStats,
@@ -393,6 +397,7 @@ pub fn suite_stats(dir: &Path, split: &str) -> Result<SuiteStats, SuiteError> {
             all_objects: round3(head_all / n),
             without_building_parts: round3(head_things / n),
         },
+        paper_candidates_at_this_scene_size: scaled_paper_candidates(objects as f64 / n),
         overall: all.finish(),
         vs_paper: vs_paper(&easy, &hard),
         easy,
@@ -400,13 +405,31 @@ pub fn suite_stats(dir: &Path, split: &str) -> Result<SuiteStats, SuiteError> {
     })
 }
 
+fn scaled_paper_candidates(objects_per_scene: f64) -> [f64; 2] {
+    let Some(axis) = super::paper::AXES
+        .iter()
+        .find(|a| a.axis == "candidates per reference (mean)")
+    else {
+        return [0.0; 2];
+    };
+    let scale = objects_per_scene / super::paper::OBJECTS_PER_SCENE;
+    [round3(axis.easy * scale), round3(axis.hard * scale)]
+}
+
 /// The statistics as a Markdown report: every axis beside the paper's value and the ratio, the
 /// naturalness counters, and the histograms.
 pub fn stats_markdown(s: &SuiteStats) -> String {
     let mut out = String::new();
     out.push_str(&format!(
-        "# Suite statistics\n\n{} scenes, {:.1} objects and {:.2} rooms per scene (paper: 40 scenes, 284.7 objects, 8.55 rooms); {} episodes ({} Easy, {} Hard; paper 700 / 300).\n\n",
-        s.scenes, s.objects_per_scene, s.rooms_per_scene, s.overall.episodes, s.easy.episodes, s.hard.episodes
+        "# Suite statistics\n\n{} scenes, {:.1} objects and {:.2} rooms per scene (paper: 40 scenes, {:.1} objects, {:.2} rooms); {} episodes ({} Easy, {} Hard; paper 700 / 300).\n\n",
+        s.scenes,
+        s.objects_per_scene,
+        s.rooms_per_scene,
+        super::paper::OBJECTS_PER_SCENE,
+        super::paper::ROOMS_PER_SCENE,
+        s.overall.episodes,
+        s.easy.episodes,
+        s.hard.episodes
     ));
     out.push_str("| axis | Easy | paper | ratio | Hard | paper | ratio |\n|---|---:|---:|---:|---:|---:|---:|\n");
     let mark = |v: &VsPaper| {
@@ -431,6 +454,11 @@ pub fn stats_markdown(s: &SuiteStats) -> String {
     out.push_str(&format!(
         "\nFor scale, in these scenes: a reference to an object drawn uniformly from its scene would have {:.2} candidates on average ({:.2} counting walls, doorways and windows).\n",
         s.uniform_head_candidates.without_building_parts, s.uniform_head_candidates.all_objects
+    ));
+    let [pe, ph] = s.paper_candidates_at_this_scene_size;
+    out.push_str(&format!(
+        "Scaled to {:.1} objects per scene, the paper's mean candidates per reference would be {pe:.2} Easy and {ph:.2} Hard.\n",
+        s.objects_per_scene
     ));
     out.push_str(&format!(
         "\nRatios in bold lie outside 1 ± {TOLERANCE}.\n\n## Naturalness counters (should all be 0)\n\n| counter | Easy | Hard |\n|---|---:|---:|\n"

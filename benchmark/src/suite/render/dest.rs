@@ -14,9 +14,10 @@ impl<'a> Scene<'a> {
         sp: &mut Speaker<'_>,
         out: &mut Out,
         k: usize,
-        stage: &Stage,
+        stages: &[Stage],
     ) -> (String, String, String) {
         let ix = &self.ix;
+        let stage = &stages[k];
         let role = format!("destination {}", k + 1);
         match &stage.dest {
             Dest::Object { id, desc } => {
@@ -97,7 +98,11 @@ impl<'a> Scene<'a> {
             }
             Dest::Other { id, cat, first } => {
                 let noun = sp.noun(cat);
-                let t = if *first + 1 == k && sp.chance(0.5) {
+                // "The other one" only right after its pair's first member: a preference said
+                // in between ("circle the dining table") would become its antecedent.
+                let nothing_between =
+                    stages[*first].softs.is_empty() && stages[*first].avoids.is_empty();
+                let t = if *first + 1 == k && sp.chance(0.5) && nothing_between {
                     "the other one".to_string()
                 } else {
                     format!("the other {noun}")
