@@ -17,6 +17,10 @@ pub const OBJECTS_PER_SCENE: f64 = 284.675;
 /// Rooms per evaluation scene (`per_scene.rooms_mean`).
 pub const ROOMS_PER_SCENE: f64 = 8.55;
 
+/// Mean candidates per reference before disambiguation, Easy and Hard
+/// (`candidates_before_disambiguation.mean`).
+pub const CANDIDATES_MEAN: [f64; 2] = [6.3, 8.45];
+
 const EASY: f64 = 700.0;
 const HARD: f64 = 300.0;
 
@@ -42,8 +46,8 @@ pub const AXES: &[PaperAxis] = &[
     },
     PaperAxis {
         axis: "candidates per reference (mean)",
-        easy: 6.3,
-        hard: 8.45,
+        easy: CANDIDATES_MEAN[0],
+        hard: CANDIDATES_MEAN[1],
         source: "candidates_before_disambiguation.mean",
     },
     PaperAxis {

@@ -406,14 +406,8 @@ pub fn suite_stats(dir: &Path, split: &str) -> Result<SuiteStats, SuiteError> {
 }
 
 fn scaled_paper_candidates(objects_per_scene: f64) -> [f64; 2] {
-    let Some(axis) = super::paper::AXES
-        .iter()
-        .find(|a| a.axis == "candidates per reference (mean)")
-    else {
-        return [0.0; 2];
-    };
     let scale = objects_per_scene / super::paper::OBJECTS_PER_SCENE;
-    [round3(axis.easy * scale), round3(axis.hard * scale)]
+    super::paper::CANDIDATES_MEAN.map(|paper| round3(paper * scale))
 }
 
 /// The statistics as a Markdown report: every axis beside the paper's value and the ratio, the
