@@ -24,7 +24,7 @@ pub const RELATIVE_MAX_SHORTEST: f64 = 1.5;
 /// ... and at least this: a pair the shortest route keeps well to B's side is failed by
 /// construction. Between the two, the way the route goes, not where the objects stand, decides
 /// the preference. (Orienting such a pair to fail, as the generator once did, left the shortest
-/// route's Relative at 0.91 on Hard against the paper's 1.24.)
+/// route's Relative at 0.91–0.95 on Hard against the paper's 1.24.)
 pub const RELATIVE_MIN_SHORTEST: f64 = 1.0 / RELATIVE_MAX_SHORTEST;
 const MIN_SPACING_M: f64 = 2.0;
 /// The witness may be at most this much longer than the leg's shortest legal route, m. Half a
