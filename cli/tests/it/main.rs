@@ -1,0 +1,14 @@
+//! One integration-test binary for the crate: each module was once its own test target.
+//! Linking the workspace once instead of once per file is most of a fresh build's time.
+
+mod ablate_cli;
+mod check_cli;
+mod common;
+mod compile_cli;
+mod faults_episode;
+mod faults_io;
+mod faults_lsp;
+mod faults_report;
+mod faults_rundir;
+mod lsp_stdio;
+mod run_cli;

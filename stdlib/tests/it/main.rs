@@ -1,0 +1,7 @@
+//! One integration-test binary for the crate: each module was once its own test target.
+//! Linking the workspace once instead of once per file is most of a fresh build's time.
+
+mod map_demo;
+mod map_errors;
+mod map_import;
+mod map_open_plan;
