@@ -10,5 +10,6 @@ mod faults_io;
 mod faults_lsp;
 mod faults_report;
 mod faults_rundir;
+mod import_cli;
 mod lsp_stdio;
 mod run_cli;
