@@ -5,6 +5,7 @@ mod ablate_cli;
 mod check_cli;
 mod common;
 mod compile_cli;
+mod docs_benchmark;
 mod faults_episode;
 mod faults_io;
 mod faults_lsp;
