@@ -203,7 +203,9 @@ fn text_table(m: &EpisodeMetrics, validity: &RouteValidity) -> String {
     let _ = writeln!(
         s,
         "route {}",
-        if validity.valid {
+        if validity.valid && !validity.occupancy_checked {
+            "valid by adjacency only (the map has no occupancy layer: free cells and corners not checked)".to_string()
+        } else if validity.valid {
             "valid (every step to a neighbouring free cell, no corner cut)".to_string()
         } else {
             format!("INVALID (not drivable): {}", validity.summary())
@@ -332,6 +334,15 @@ mod tests {
             t.contains("route INVALID (not drivable): 1 step that is not to a neighbouring cell"),
             "{t}"
         );
+    }
+
+    #[test]
+    fn without_occupancy_the_table_does_not_claim_free_cells_were_checked() {
+        let (m, _) = metrics();
+        let bare = EvalMap::from_json(&json!({"grid_size": 4})).unwrap();
+        let v = route_validity(&[[1, 1], [2, 2]], &bare);
+        let t = text_table(&m, &v);
+        assert!(t.contains("route valid by adjacency only"), "{t}");
     }
 
     #[test]
