@@ -52,8 +52,8 @@ pub struct LlmArgs {
     /// Read the API key from this file (otherwise from M2R_LLM_API_KEY, if set).
     #[arg(long)]
     pub llm_api_key_file: Option<PathBuf>,
-    /// Response cache directory (default: <run dir>/llm-cache for `bench run`, .m2rc/llm-cache
-    /// for `m2rc run`).
+    /// Response cache directory (default: <run dir>/llm-cache for `bench run`; for `m2rc run`
+    /// $XDG_CACHE_HOME/m2rc/llm-cache, else ~/.cache/m2rc/llm-cache).
     #[arg(long)]
     pub llm_cache: Option<PathBuf>,
     /// Do not read or write the response cache.

@@ -117,7 +117,7 @@ impl HttpClient {
             message: if e.is_timeout() {
                 format!("timed out after {:.1} s", self.cfg.timeout.as_secs_f64())
             } else if e.is_connect() {
-                "cannot connect to the server".to_string()
+                format!("cannot connect to {}", self.cfg.endpoint())
             } else {
                 format!("request failed: {}", e.without_url())
             },

@@ -5,6 +5,7 @@
 //! route summary; writes outputs only when a route was found, each atomically.
 
 use crate::cmd::compile::{render_options, route_document, summary_text};
+use crate::io::unusable;
 use crate::io::write_atomic;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
@@ -14,10 +15,13 @@ use m2rc_compiler::lower::EpisodeOutcome;
 use m2rc_llm::{Backend, Exchange};
 use m2rc_planner::context::MapContext;
 use m2rc_stdlib::render::render_map;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// `--llm` is not offered here: the simulated model answers from an episode's gold program, and
+/// `m2rc run` has no episode (a `--llm simulated` typed anyway is refused, naming `bench run`).
 #[derive(Args)]
+#[command(mut_arg("backend", |a| a.hide(true)))]
 pub struct RunArgs {
     /// The route instruction, in natural language.
     pub instruction: String,
@@ -48,25 +52,30 @@ pub enum RunEmit {
 
 pub fn run(args: RunArgs) -> Result<ExitCode> {
     if let Backend::Simulated(_) = args.llm.backend {
-        bail!(
-            "--llm simulated answers from an episode's gold program, so it works only in `m2rc bench run`; point `m2rc run` at a server with --llm-base-url"
-        );
+        return Err(unusable(anyhow::anyhow!(
+            "--llm simulated answers from an episode's gold program, so `m2rc run` (which has no \
+             episode) does not take it; try it on a suite with `m2rc bench run --method \
+             grounding2route --llm simulated`, or point `m2rc run` at a server with --llm-base-url"
+        )));
     }
     let map = m2rc_stdlib::load::load_map(&args.map)
         .with_context(|| format!("cannot load map `{}`", args.map))?;
     let ctx =
         MapContext::new(&map).map_err(|e| anyhow::anyhow!("the map cannot be planned on: {e}"))?;
-    let client = args
-        .llm
-        .http_client()
-        .map_err(anyhow::Error::msg)?
-        .context("no HTTP client")?;
-    let (store, note) = args
-        .llm
-        .store(Path::new(".m2rc/llm-cache"))
-        .map_err(anyhow::Error::msg)?;
+    let client = match args.llm.http_client() {
+        Ok(Some(c)) => c,
+        Ok(None) => bail!("no HTTP client"),
+        Err(e) => {
+            return Err(unusable(anyhow::anyhow!("{e}\n{}", without_server(&args))));
+        }
+    };
+    let default_cache = m2rc_llm::config::default_run_cache();
+    let (store, note) = args.llm.store(&default_cache).map_err(anyhow::Error::msg)?;
     if let Some(n) = note {
         eprintln!("{n}");
+    }
+    if let Some(c) = &store.cache {
+        eprintln!("replies cached in {}", c.dir().display());
     }
     let model = Exchange {
         store: &store,
@@ -126,6 +135,14 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
                 outcome.status(),
                 trace.attempts.len()
             );
+            match outcome {
+                EpisodeOutcome::ModelFailed { .. } => eprintln!("{}", without_server(&args)),
+                EpisodeOutcome::Pending { .. } => eprintln!(
+                    "answer the batch request, then run the same command with --llm-batch-in \
+                     <replies.jsonl> --llm-cache-only instead of --llm-batch-out"
+                ),
+                _ => {}
+            }
             return Ok(ExitCode::FAILURE);
         }
     };
@@ -159,4 +176,21 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// What a user without a reachable model server can do instead, with this command's own map and
+/// instruction filled in.
+fn without_server(args: &RunArgs) -> String {
+    let instruction = args.instruction.replace('\\', "\\\\").replace('"', "\\\"");
+    let map = &args.map;
+    format!(
+        "without a model server:\n  \
+         m2rc prompt --map {map} \"{instruction}\"   prints the exact messages the model would get\n  \
+         m2rc run \"{instruction}\" --map {map} --llm-batch-out requests.jsonl   writes the \
+         request for a batch API; answer it, then run again with --llm-batch-in <replies.jsonl> \
+         --llm-cache-only to plan from the reply\n  \
+         m2rc bench run --suite <suite> --method grounding2route --llm simulated --out <run>   \
+         tries the pipeline without a model (the gold program with injected faults)\n\
+         docs/llm.md lists servers that work (llama.cpp, vLLM, Ollama, hosted APIs)"
+    )
 }

@@ -215,6 +215,11 @@ fn connection_refused_and_timeouts_end_in_a_recorded_failure() {
         panic!("{:?}", t.outcome)
     };
     assert!(message.contains("cannot connect"), "{message}");
+    // The URL tried is named, so a typo in --llm-base-url shows.
+    assert!(
+        message.contains(&format!("http://127.0.0.1:{port}/v1/chat/completions")),
+        "{message}"
+    );
 
     // A server that accepts and never answers.
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
