@@ -253,8 +253,9 @@ pub fn unambiguous_fixes(source: &str, diags: &[Diagnostic]) -> Option<(String, 
 const MAX_LOCAL_PASSES: usize = 4;
 
 /// Verifies `program`, applying local fixes while they help. Returns the verdict, the fixes, and
-/// the program the verdict is about.
-fn verify_with_fixes<V: Verifier>(
+/// the program the verdict is about. The repair loop and `m2rc check --fix` share it, so a fix the
+/// command applies is exactly one the loop would have applied before asking the model.
+pub fn verify_with_fixes<V: Verifier>(
     verifier: &mut V,
     program: &str,
     local: bool,
