@@ -129,6 +129,7 @@ pub(crate) fn show_progress() -> bool {
 }
 
 fn run_method(a: RunArgs) -> Result<ExitCode> {
+    crate::outputs::refuse_run_into_suite(&a.out, &a.suite)?;
     let mut model_method = None;
     let method: Box<dyn m2rc_benchmark::methods::Method> = if a.method == "grounding2route" {
         let (m, note) = Grounding2Route::from_args(&a.llm, &a.lower, &a.out.join("llm-cache"))
@@ -256,6 +257,7 @@ pub(crate) fn rayon_pool(threads: usize) -> Result<rayon::ThreadPool> {
 }
 
 fn merge(a: MergeArgs) -> Result<ExitCode> {
+    crate::outputs::refuse_output_among_inputs(&a.out, &a.shards, "shard")?;
     let s = runner::merge(&a.shards, &a.out)?;
     crate::io::stdout(&format!(
         "merged {} shards: {} records ({} duplicates identical) into {}\n",
