@@ -322,17 +322,29 @@ pub enum PreferenceType {
     Clearance,
 }
 
+/// Every `preference_type` string an episode may use, with its type: the evaluator's own names
+/// (the strings it dispatches on), so the episode check and the evaluator accept the same set.
+/// `docs/formats.md` lists the same names; a test compares the two.
+pub const PREFERENCE_TYPE_NAMES: [(&str, PreferenceType); 6] = {
+    use crate::metrics::soft::{CLEARANCE, FAR, GEOMETRIC_PATH, NEAR, PATH_SHAPE, RELATIVE};
+    [
+        (NEAR, PreferenceType::Near),
+        (FAR, PreferenceType::Far),
+        (RELATIVE, PreferenceType::Relative),
+        (PATH_SHAPE, PreferenceType::PathShape),
+        (GEOMETRIC_PATH, PreferenceType::PathShape),
+        (CLEARANCE, PreferenceType::Clearance),
+    ]
+};
+
 impl PreferenceType {
-    /// Maps a `preference_type` string; `geometric_path_preference` is an alias of path shape.
+    /// Maps a `preference_type` string ([`PREFERENCE_TYPE_NAMES`]);
+    /// `geometric_path_preference` is an alias of path shape.
     pub fn parse(s: &str) -> Option<Self> {
-        Some(match s {
-            "near_preference" => PreferenceType::Near,
-            "far_preference" => PreferenceType::Far,
-            "relative_preference" => PreferenceType::Relative,
-            "path_shape_preference" | "geometric_path_preference" => PreferenceType::PathShape,
-            "clearance" => PreferenceType::Clearance,
-            _ => return None,
-        })
+        PREFERENCE_TYPE_NAMES
+            .iter()
+            .find(|(name, _)| *name == s)
+            .map(|&(_, t)| t)
     }
 
     /// The canonical `preference_type` string.

@@ -5,8 +5,14 @@
 
 use crate::episode::{CellRc, Episode, EpisodeError, PreferenceType};
 
-/// The `preference_type` values the evaluator scores.
-pub const KNOWN_PREFERENCES: &str = "near_preference, far_preference, relative_preference, path_shape_preference (or geometric_path_preference), clearance";
+/// The `preference_type` values the evaluator scores, for a message.
+pub fn known_preferences() -> String {
+    crate::episode::PREFERENCE_TYPE_NAMES
+        .iter()
+        .map(|(name, _)| *name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
 
 /// Checks `ep` (read from `file`) for use on an `n` x `n` map; without `n` only what needs no
 /// map (negative cells and orders, preference types) is checked.
@@ -90,7 +96,10 @@ pub fn check_episode(ep: &Episode, n: Option<usize>, file: &str) -> Result<(), E
         {
             return Err(err(
                 format!("{at}.preference_type"),
-                format!("unknown preference type `{t}` (known: {KNOWN_PREFERENCES})"),
+                format!(
+                    "unknown preference type `{t}` (known: {})",
+                    known_preferences()
+                ),
             ));
         }
         if let Some(sc) = &s.scope {

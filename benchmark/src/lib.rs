@@ -3,6 +3,7 @@ pub mod ablate;
 pub mod atomic;
 pub mod episode;
 pub mod episode_check;
+pub mod import;
 pub mod limits;
 pub mod methods;
 pub mod metrics;

@@ -1,7 +1,10 @@
 //! Route (prediction) files: a bare `[[row, col], ...]` list, or an object holding it under
 //! `trajectory`, `predicted_trajectory` or `human_expert_trajectory` (first list found, in that
 //! order). Points must be two JSON integers inside the grid; traversability and adjacency are
-//! not required (jumps are scored as straight segments).
+//! not required (jumps are scored as straight segments, as the reference does); [`validity`]
+//! says whether a route could be driven.
+
+pub mod validity;
 
 use serde_json::Value;
 use std::path::Path;

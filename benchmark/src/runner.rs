@@ -444,6 +444,7 @@ pub fn predict_and_score(
         "metrics": scored.metrics,
         "metrics_summary": scored.summary,
         "soft_episode_values": scored.soft_values,
+        "route_validity": scored.validity,
         "trajectory": traj,
     });
     if let Value::Object(m) = &mut record {

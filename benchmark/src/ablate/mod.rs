@@ -247,6 +247,7 @@ pub fn run_ablation(ab: Ablation, opts: &AblateOptions) -> Result<AblationResult
             std::slice::from_ref(&vdir),
             LoadOptions {
                 allow_incomplete: opts.shard.is_some(),
+                allow_invalid_routes: false,
             },
         )?);
     }

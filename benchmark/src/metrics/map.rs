@@ -3,6 +3,7 @@
 //! more than `grid_size` and two layers) or from a full [`SemanticMap`]. Per-map work (legal
 //! move table, clearance field) is done once and shared by every episode on the map.
 
+use crate::route::validity::diagonal_corners;
 use m2rc_stdlib::field::distance_field;
 use m2rc_stdlib::grid::Grid;
 use m2rc_stdlib::map::SemanticMap;
@@ -200,8 +201,8 @@ impl EvalMap {
                 .is_some_and(|t| t[row as usize * self.n + col as usize])
     }
 
-    /// Per-cell bit masks of moves legal by traversability (no corner cutting); empty when the
-    /// map has no occupancy layer.
+    /// Per-cell bit masks of moves legal by traversability (no corner cutting, by the rule of
+    /// [`diagonal_corners`]); empty when the map has no occupancy layer.
     pub fn legal_moves(&self) -> &[u8] {
         self.legal_moves.get_or_init(|| {
             let Some(t) = &self.traversable else {
@@ -217,7 +218,8 @@ impl EvalMap {
                     for (k, &(dr, dc, _)) in MOVES.iter().enumerate() {
                         let (nr, nc) = (r + dr, c + dc);
                         let ok = free(nr, nc)
-                            && (dr == 0 || dc == 0 || (free(r + dr, c) && free(r, c + dc)));
+                            && diagonal_corners([r, c], [nr, nc])
+                                .is_none_or(|cs| cs.iter().all(|&[cr, cc]| free(cr, cc)));
                         if ok {
                             bits |= 1 << k;
                         }

@@ -24,6 +24,9 @@ pub struct MethodRun {
     pub expected: usize,
     /// Episodes waiting for a model reply (marked `*.pending`, no record yet).
     pub pending: usize,
+    /// Records whose route is not drivable ([`crate::route::validity`]), by episode key, with
+    /// the first problem of each.
+    pub invalid_routes: Vec<(String, String)>,
 }
 
 impl MethodRun {
@@ -37,6 +40,9 @@ impl MethodRun {
 pub struct LoadOptions {
     /// Report methods whose runs lack episodes (the table then says so) instead of refusing.
     pub allow_incomplete: bool,
+    /// Report methods with routes that are not drivable (the table then says so) instead of
+    /// refusing: their scores are the reference's, which does not check routes.
+    pub allow_invalid_routes: bool,
 }
 
 /// Reads run directories strictly: every record valid, every method complete.
@@ -64,7 +70,8 @@ fn display_name(method: &str, dirs: &[std::path::PathBuf]) -> String {
 
 /// Reads run directories, keeping the order methods first appear in and combining directories
 /// of the same method (each episode once, a directory named twice once). Every record is
-/// validated; an incomplete method is refused unless `opts.allow_incomplete`.
+/// validated; an incomplete method is refused unless `opts.allow_incomplete`, and a method with
+/// routes that are not drivable unless `opts.allow_invalid_routes`.
 pub fn load_runs_with(
     dirs: &[impl AsRef<Path>],
     opts: LoadOptions,
@@ -72,7 +79,17 @@ pub fn load_runs_with(
     let methods = collect(dirs)?;
     let mut runs = Vec::new();
     let mut incomplete = Vec::new();
+    let mut invalid = Vec::new();
     for m in methods {
+        let invalid_routes = invalid_routes(&m.records);
+        if let Some((key, why)) = invalid_routes.first() {
+            invalid.push(format!(
+                "`{}` has {} of {} routes that are not drivable (first: {key}: {why})",
+                m.method,
+                invalid_routes.len(),
+                m.present()
+            ));
+        }
         let pending: usize = m.dirs.iter().map(|d| count_pending(d)).sum();
         if !m.is_complete() {
             incomplete.push(format!(
@@ -98,6 +115,7 @@ pub fn load_runs_with(
             expected: m.expected,
             pending,
             records: m.records.into_values().collect(),
+            invalid_routes,
         });
     }
     if !incomplete.is_empty() && !opts.allow_incomplete {
@@ -106,7 +124,25 @@ pub fn load_runs_with(
             incomplete.join("; ")
         )));
     }
+    if !invalid.is_empty() && !opts.allow_invalid_routes {
+        return Err(RunError::Invalid(format!(
+            "cannot rank routes that teleport or cross obstacles: {}; the evaluator scores such routes as straight segments, as the reference does, so their scores are not comparable with drivable routes; fix the method, or pass --allow-invalid-routes to report them (the table marks the row)",
+            invalid.join("; ")
+        )));
+    }
     Ok(runs)
+}
+
+/// The records (already validated, so each has a `route_validity`) whose route is not drivable,
+/// with the first problem in words.
+fn invalid_routes(records: &std::collections::BTreeMap<String, Value>) -> Vec<(String, String)> {
+    records
+        .iter()
+        .filter_map(|(key, r)| {
+            let v = crate::rundir::record::route_validity(r).ok()?;
+            (!v.valid).then(|| (key.clone(), v.summary()))
+        })
+        .collect()
 }
 
 /// `*.pending` markers in the map directories of a run directory.

@@ -67,6 +67,8 @@ pub struct MethodRow {
     /// Episodes with a scored record, and episodes a complete run holds.
     pub episodes_present: usize,
     pub episodes_expected: usize,
+    /// Episodes whose route is not drivable (reported only with `--allow-invalid-routes`).
+    pub invalid_routes: usize,
     pub easy: Block,
     pub hard: Block,
     pub overall: Block,
@@ -131,6 +133,7 @@ pub fn table(runs: &[MethodRun]) -> Table {
                 method: run.method.clone(),
                 episodes_present: run.present,
                 episodes_expected: run.expected,
+                invalid_routes: run.invalid_routes.len(),
                 easy: block(run.records.iter().filter(|r| difficulty(r) == "easy")),
                 hard: block(run.records.iter().filter(|r| difficulty(r) == "hard")),
                 overall: block(run.records.iter()),
@@ -173,6 +176,15 @@ pub fn markdown(t: &Table) -> String {
         })
         .collect();
     out.push_str(&format!("\nEpisodes — {}.\n", counts.join("; ")));
+    let invalid: Vec<String> = t
+        .methods
+        .iter()
+        .map(|r| format!("{}: {}", r.method, r.invalid_routes))
+        .collect();
+    out.push_str(&format!(
+        "\nInvalid routes (not drivable: a jump, a blocked cell or a cut corner) — {}.\n",
+        invalid.join("; ")
+    ));
     let coverage: Vec<String> = t
         .methods
         .iter()
@@ -197,12 +209,18 @@ pub fn markdown(t: &Table) -> String {
             r.method, r.episodes_present, r.episodes_expected
         ));
     }
+    for r in t.methods.iter().filter(|r| r.invalid_routes > 0) {
+        out.push_str(&format!(
+            "\n**INVALID ROUTES: `{}` has {} of {} routes that are not drivable; they are scored as the reference scores them (straight segments), so its row is not comparable with rows of drivable routes.**\n",
+            r.method, r.invalid_routes, r.episodes_present
+        ));
+    }
     out.push_str(&format!("\n{NOTE}\n"));
     out
 }
 
 pub fn csv(t: &Table) -> String {
-    let mut out = String::from("method,block,episodes,present,expected");
+    let mut out = String::from("method,block,episodes,present,expected,invalid_routes");
     for k in KEYS {
         out.push(',');
         out.push_str(k);
@@ -215,11 +233,12 @@ pub fn csv(t: &Table) -> String {
             ("overall", &row.overall),
         ] {
             out.push_str(&format!(
-                "{},{name},{},{},{}",
+                "{},{name},{},{},{},{}",
                 csv_field(&row.method),
                 b.episodes,
                 row.episodes_present,
-                row.episodes_expected
+                row.episodes_expected,
+                row.invalid_routes
             ));
             for k in KEYS {
                 out.push(',');

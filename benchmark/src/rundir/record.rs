@@ -2,12 +2,13 @@
 //! digest of their own content when written, validated whenever they are read.
 //!
 //! Validation is strict about what the report relies on (whose episode, which method, which
-//! inputs, the scored metrics and the route) and tolerant of everything else: keys a method adds
+//! inputs, the scored metrics, the route and its validity) and tolerant of everything else: keys a method adds
 //! (a model's reply, repair rounds, a `pending` outcome of a batch job) pass as they are, as long
 //! as the digest, computed over the whole record, still matches.
 
 use super::Fingerprint;
 use crate::metrics::evaluate::EpisodeMetrics;
+use crate::route::validity::RouteValidity;
 use serde_json::{Value, json};
 use std::path::Path;
 
@@ -18,6 +19,8 @@ pub const DIGEST_KEY: &str = "record_digest";
 /// The `status` of a record whose method has not answered yet (for example a batch job); it is
 /// valid but not scored, so a report counts it as missing.
 pub const PENDING: &str = "pending";
+/// Key of the route's validity inside a scored record.
+pub const VALIDITY_KEY: &str = "route_validity";
 
 /// What a record at a given place of a given run must say about itself.
 #[derive(Clone, Copy, Debug)]
@@ -159,7 +162,17 @@ pub fn validate(record: &Value, e: &Expected<'_>) -> Result<(), String> {
             metrics.hcs
         ));
     }
+    route_validity(record)?;
     check_digest(record)
+}
+
+/// The record's `route_validity` ([`crate::route::validity`]): what `bench report` counts and
+/// refuses on. A record without it was written before routes were checked.
+pub fn route_validity(record: &Value) -> Result<RouteValidity, String> {
+    let v = record.get(VALIDITY_KEY).ok_or(
+        "field `route_validity` is missing (written by an m2rc that did not check routes)",
+    )?;
+    serde_json::from_value(v.clone()).map_err(|err| format!("field `{VALIDITY_KEY}`: {err}"))
 }
 
 /// Checked last, so that a record broken in a way the schema sees is reported as such.

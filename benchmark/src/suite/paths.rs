@@ -5,6 +5,7 @@
 //! The generator uses it to prove every episode feasible and to draw the reference route; the
 //! `shortest` method uses it as its planner, so the baseline needs nothing but the annotation.
 
+use crate::route::validity::diagonal_corners;
 use m2rc_stdlib::grid::Cell;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -129,10 +130,11 @@ impl PassMask {
                 if !self.ok(nr, nc) {
                     continue;
                 }
-                let diagonal = dr != 0 && dc != 0;
-                if diagonal && !(self.ok(r + dr, c) && self.ok(r, c + dc)) {
+                let corners = diagonal_corners([r, c], [nr, nc]);
+                if corners.is_some_and(|cs| !cs.iter().all(|&[cr, cc]| self.ok(cr, cc))) {
                     continue;
                 }
+                let diagonal = corners.is_some();
                 let next = nr as usize * n + nc as usize;
                 let step = if diagonal {
                     std::f64::consts::SQRT_2

@@ -249,6 +249,7 @@ fn mock_server_cache_resume_batch_and_simulated() {
         std::slice::from_ref(&batch_out),
         report::LoadOptions {
             allow_incomplete: true,
+            ..Default::default()
         },
     )
     .unwrap();

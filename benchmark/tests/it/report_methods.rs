@@ -78,6 +78,22 @@ fn oracle_is_perfect_and_shortest_loses_on_preferences() {
     }
     let runs = load_runs(&dirs).unwrap();
     for run in &runs {
+        // The planners (oracle, hard-only) and the shortest-route search move by the rule the
+        // route validity check applies: every route of theirs is drivable.
+        assert!(
+            run.invalid_routes.is_empty(),
+            "{}: {:?}",
+            run.method,
+            run.invalid_routes
+        );
+        for r in &run.records {
+            assert_eq!(
+                r["route_validity"]["valid"], true,
+                "{}",
+                r["instruction_id"]
+            );
+            assert_eq!(r["route_validity"]["occupancy_checked"], true);
+        }
         if run.method == "oracle" || run.method == "shortest" {
             for r in &run.records {
                 assert_eq!(

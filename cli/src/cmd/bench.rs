@@ -1,5 +1,6 @@
-//! `m2rc bench run | merge | report`: run a method over a suite (parallel, resumable, shardable),
-//! merge shard directories, and report the paper's tables and plots.
+//! `m2rc bench run | merge | import | report`: run a method over a suite (parallel, resumable,
+//! shardable), merge shard directories, score another program's routes (`bench_import`), and
+//! report the paper's tables and plots.
 
 use crate::io::{unusable, write_atomic};
 use anyhow::{Context, Result, bail};
@@ -23,6 +24,8 @@ pub enum BenchCommand {
     Run(Box<RunArgs>),
     /// Combine the run directories of `--shard` jobs into one.
     Merge(MergeArgs),
+    /// Score another program's routes (a folder of prediction files) into a run directory.
+    Import(super::bench_import::ImportArgs),
     /// Table I, the difficulty analysis, plots, and per-episode pictures.
     Report(ReportArgs),
 }
@@ -93,6 +96,10 @@ pub struct ReportArgs {
     /// Report methods whose runs lack episodes (the table says so) instead of refusing.
     #[arg(long)]
     pub allow_incomplete: bool,
+    /// Report methods with routes that are not drivable (jumps, blocked cells, cut corners; the
+    /// table says so) instead of refusing.
+    #[arg(long)]
+    pub allow_invalid_routes: bool,
     /// Write the difficulty-analysis bar charts (PNG) into this directory.
     #[arg(long)]
     pub plots: Option<PathBuf>,
@@ -117,6 +124,7 @@ pub fn run(command: BenchCommand) -> Result<ExitCode> {
     match command {
         BenchCommand::Run(a) => run_method(*a),
         BenchCommand::Merge(a) => merge(a),
+        BenchCommand::Import(a) => super::bench_import::run(a),
         BenchCommand::Report(a) => report_cmd(a),
     }
 }
@@ -223,6 +231,7 @@ fn run_method(a: RunArgs) -> Result<ExitCode> {
             std::slice::from_ref(&a.out),
             LoadOptions {
                 allow_incomplete: summary.pending > 0,
+                allow_invalid_routes: false,
             },
         )?;
         let prices = report::model::Prices {
@@ -274,6 +283,7 @@ fn report_cmd(a: ReportArgs) -> Result<ExitCode> {
         &a.runs,
         LoadOptions {
             allow_incomplete: a.allow_incomplete,
+            allow_invalid_routes: a.allow_invalid_routes,
         },
     )?;
     let text = match a.format {

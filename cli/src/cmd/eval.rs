@@ -1,5 +1,7 @@
 //! `m2rc eval`: score one route against one Map2Route episode with the exact reference
-//! evaluator (HCS, PL, segment-wise SPL, raw soft-constraint values).
+//! evaluator (HCS, PL, segment-wise SPL, raw soft-constraint values), and say whether the route
+//! could be driven (the reference scores jumps through walls as straight segments; so does
+//! `eval`, with a warning and `route_valid: false`).
 
 use crate::io::{display_name, read_to_string, unusable};
 use anyhow::{Context, Result};
@@ -7,6 +9,7 @@ use clap::{Args, ValueEnum};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::metrics::{EpisodeMetrics, EvalMap, EvalOptions, evaluate};
 use m2rc_benchmark::route::parse_route_text;
+use m2rc_benchmark::route::validity::{RouteValidity, route_validity};
 use m2rc_stdlib::load::SourceKind;
 use serde_json::{Value, json};
 use std::fmt::Write as _;
@@ -18,7 +21,7 @@ pub enum EvalFormat {
     /// A readable table.
     #[default]
     Text,
-    /// One JSON object: {"HCS", "PL", "SPL", "soft": [...]}.
+    /// One JSON object: {"HCS", "PL", "SPL", "soft": [...], "route_valid", "route_validity"}.
     Json,
 }
 
@@ -31,11 +34,15 @@ pub struct EvalArgs {
     /// The episode (Map2Route instruction JSON); `-` reads standard input.
     #[arg(long, value_name = "INSTRUCTION.json")]
     pub episode: PathBuf,
-    /// The route: a [[row, col], ...] list, or an object with `trajectory`; `-` reads standard
-    /// input.
+    /// The route, in any of these forms: a bare [[row, col], ...] list; or an object holding
+    /// that list under `trajectory` (`m2rc compile -o` output, a `bench run` or `bench import`
+    /// record, the reference's method output), `predicted_trajectory`, or
+    /// `human_expert_trajectory` (an episode file: its expert route), the first of the three
+    /// that is a list. Points are two integers inside the map; `-` reads standard input.
     #[arg(long, value_name = "ROUTE.json")]
     pub route: PathBuf,
-    /// Print a readable table (text) or one JSON object {"HCS", "PL", "SPL", "soft"} (json).
+    /// Print a readable table (text) or one JSON object {"HCS", "PL", "SPL", "soft",
+    /// "route_valid", "route_validity"} (json).
     #[arg(long, value_enum, default_value_t = EvalFormat::Text)]
     pub format: EvalFormat,
     /// Print the full reference-style metrics object (details of every segment and soft
@@ -117,22 +124,42 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
     };
     let metrics = evaluate(&route, &episode, &map, &opts)
         .with_context(|| format!("{ep_name}: cannot evaluate"))?;
+    let validity = route_validity(&route, &map);
+    if !validity.valid {
+        eprintln!(
+            "warning: {route_name}: the route is not drivable: {}; scored anyway, as the reference evaluator scores it (straight segments between points)",
+            validity.summary()
+        );
+    }
 
     let out = if args.full {
-        serde_json::to_string_pretty(&metrics)? + "\n"
+        let mut full = serde_json::to_value(&metrics)?;
+        add_validity(&mut full, &validity);
+        serde_json::to_string_pretty(&full)? + "\n"
     } else {
         match args.format {
-            EvalFormat::Json => serde_json::to_string(&summary_json(&metrics))? + "\n",
-            EvalFormat::Text => text_table(&metrics),
+            EvalFormat::Json => serde_json::to_string(&summary_json(&metrics, &validity))? + "\n",
+            EvalFormat::Text => text_table(&metrics, &validity),
         }
     };
     crate::io::stdout(&out)?;
     Ok(ExitCode::SUCCESS)
 }
 
+/// Adds `route_valid` and `route_validity` (counts and the first problem) to a JSON object.
+fn add_validity(out: &mut Value, validity: &RouteValidity) {
+    if let Value::Object(o) = out {
+        o.insert("route_valid".into(), Value::Bool(validity.valid));
+        o.insert(
+            "route_validity".into(),
+            serde_json::to_value(validity).unwrap_or(Value::Null),
+        );
+    }
+}
+
 /// The summary schema: `{"HCS", "PL", "SPL", "soft": [{constraint_id, preference_type,
-/// raw_value, status}]}`.
-pub fn summary_json(m: &EpisodeMetrics) -> Value {
+/// raw_value, status}], "route_valid", "route_validity"}`.
+pub fn summary_json(m: &EpisodeMetrics, validity: &RouteValidity) -> Value {
     let soft: Vec<Value> = m
         .details
         .soft_constraints
@@ -146,7 +173,9 @@ pub fn summary_json(m: &EpisodeMetrics) -> Value {
             })
         })
         .collect();
-    json!({"HCS": m.hcs, "PL": m.pl, "SPL": m.segment_wise_spl, "soft": soft})
+    let mut out = json!({"HCS": m.hcs, "PL": m.pl, "SPL": m.segment_wise_spl, "soft": soft});
+    add_validity(&mut out, validity);
+    out
 }
 
 fn num(x: Option<f64>) -> String {
@@ -157,7 +186,7 @@ fn num(x: Option<f64>) -> String {
     }
 }
 
-fn text_table(m: &EpisodeMetrics) -> String {
+fn text_table(m: &EpisodeMetrics, validity: &RouteValidity) -> String {
     let mut s = String::new();
     let h = &m.details.hcs;
     let _ = writeln!(
@@ -171,6 +200,15 @@ fn text_table(m: &EpisodeMetrics) -> String {
     }
     let _ = writeln!(s, "PL   {:.6} m", m.pl);
     let _ = writeln!(s, "SPL  {:.6}", m.segment_wise_spl);
+    let _ = writeln!(
+        s,
+        "route {}",
+        if validity.valid {
+            "valid (every step to a neighbouring free cell, no corner cut)".to_string()
+        } else {
+            format!("INVALID (not drivable): {}", validity.summary())
+        }
+    );
     let _ = writeln!(s);
     let _ = writeln!(
         s,
@@ -221,13 +259,17 @@ mod tests {
     use super::*;
     use serde_json::json;
 
-    fn metrics() -> EpisodeMetrics {
-        let map = EvalMap::from_json(&json!({
+    fn map() -> EvalMap {
+        EvalMap::from_json(&json!({
             "grid_size": 4,
             "layers": {"occupancy": [[1, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]],
                        "object_instance": [[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]]}
         }))
-        .unwrap();
+        .unwrap()
+    }
+
+    /// The metrics and the validity of `route` from the start (1,1) to the goal (3,3).
+    fn scored(route: &[[i64; 2]]) -> (EpisodeMetrics, RouteValidity) {
         let pass = |id: &str, r: i64, c: i64, o: i64| json!({"constraint_id": id, "kind": "must_pass", "shape": "freeform", "order": o, "cells": [[r, c]]});
         let ep = Episode::from_value(
             json!({"hard_constraints": [pass("start", 1, 1, 1), pass("goal", 3, 3, 2)],
@@ -235,22 +277,27 @@ mod tests {
             "ep.json",
         )
         .unwrap();
-        evaluate(
-            &[[1, 1], [2, 2], [3, 3]],
-            &ep,
-            &map,
-            &EvalOptions::default(),
-        )
-        .unwrap()
+        let map = map();
+        let m = evaluate(route, &ep, &map, &EvalOptions::default()).unwrap();
+        (m, route_validity(route, &map))
+    }
+
+    fn metrics() -> (EpisodeMetrics, RouteValidity) {
+        scored(&[[1, 1], [2, 2], [3, 3]])
     }
 
     #[test]
     fn json_summary_has_exactly_the_documented_keys() {
-        let v = summary_json(&metrics());
+        let (m, v) = metrics();
+        let v = summary_json(&m, &v);
         let keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
-        assert_eq!(keys, ["HCS", "PL", "SPL", "soft"]);
+        assert_eq!(
+            keys,
+            ["HCS", "PL", "SPL", "soft", "route_valid", "route_validity"]
+        );
         assert_eq!(v["HCS"], 1.0);
         assert_eq!(v["SPL"], 1.0);
+        assert_eq!(v["route_valid"], true);
         let soft = &v["soft"][0];
         let keys: Vec<&str> = soft
             .as_object()
@@ -269,9 +316,30 @@ mod tests {
     }
 
     #[test]
+    fn a_jump_keeps_the_reference_score_and_is_reported_invalid() {
+        let (m, v) = scored(&[[1, 1], [3, 3]]);
+        let j = summary_json(&m, &v);
+        assert_eq!(j["HCS"], 1.0);
+        assert_eq!(j["SPL"], 1.0);
+        assert_eq!(j["route_valid"], false);
+        assert_eq!(j["route_validity"]["non_adjacent_steps"], 1);
+        assert_eq!(
+            j["route_validity"]["first_problem"],
+            json!({"kind": "non_adjacent_step", "step": 0, "from": [1, 1], "to": [3, 3]})
+        );
+        let t = text_table(&m, &v);
+        assert!(
+            t.contains("route INVALID (not drivable): 1 step that is not to a neighbouring cell"),
+            "{t}"
+        );
+    }
+
+    #[test]
     fn text_table_lists_segments_and_soft_constraints() {
-        let t = text_table(&metrics());
+        let (m, v) = metrics();
+        let t = text_table(&m, &v);
         assert!(t.starts_with("HCS  1.000000  (1/1 targets)"), "{t}");
+        assert!(t.contains("route valid"), "{t}");
         assert!(t.contains("goal"), "{t}");
         assert!(t.contains("completed"), "{t}");
         assert!(t.contains("clearance"), "{t}");

@@ -2,6 +2,7 @@
 
 pub mod ablate;
 pub mod bench;
+pub mod bench_import;
 pub mod check;
 pub mod compile;
 pub mod eval;
