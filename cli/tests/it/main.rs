@@ -11,4 +11,5 @@ mod faults_lsp;
 mod faults_report;
 mod faults_rundir;
 mod lsp_stdio;
+mod ltl_cli;
 mod run_cli;
