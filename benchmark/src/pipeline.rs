@@ -58,7 +58,8 @@ pub struct CompiledRoute {
     pub rounds: usize,
     /// Whether grounding against the final route reproduced the IR the route was planned from.
     pub stable: bool,
-    /// The formula of a `route ltl "..."` program (its RouteIR then holds one stage per atom).
+    /// The formula of a `route ltl "..."` program (its RouteIR then holds one stage per place the
+    /// formula asks the route to enter, in the order the route first enters them).
     pub ltl: Option<m2rc_compiler::ltl::LtlRoute>,
 }
 
@@ -150,6 +151,9 @@ fn compile(
         merge(&mut warnings, diags);
         if let Some(t) = opts.transform {
             t(&mut ir);
+        }
+        if matches!(opts.planner, PlannerKind::Ltl) {
+            merge(&mut warnings, crate::pipeline_ltl::ignored_by_ltl(&ir));
         }
         if let Some((prev_ir, prev_route)) = last.take() {
             if same_grounding(&prev_ir, &ir) {

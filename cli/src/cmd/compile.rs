@@ -45,10 +45,11 @@ pub struct CompileArgs {
     /// Draw the route over the map into this PNG.
     #[arg(long)]
     pub png: Option<PathBuf>,
-    /// Route planner: sequential (stage by stage), global (all stages at once) or shortest
-    /// (ignore preferences).
-    #[arg(long, value_enum, default_value_t = Planner::Sequential)]
-    pub planner: Planner,
+    /// Route planner: sequential (stage by stage, the default), global (all stages at once) or
+    /// shortest (ignore preferences). An LTL route (`route ltl "..."`) is always planned by the
+    /// LTL planner.
+    #[arg(long, value_enum)]
+    pub planner: Option<Planner>,
     /// Start cell `row,col` (default: the episode's start, else the map's start).
     #[arg(long, value_parser = parse_cell)]
     pub start: Option<Cell>,
@@ -225,7 +226,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         }
     }
     let opts = PipelineOptions {
-        planner: match args.planner {
+        planner: match args.planner.unwrap_or(Planner::Sequential) {
             Planner::Sequential => PlannerKind::Sequential,
             Planner::Global => PlannerKind::Global,
             Planner::Shortest => PlannerKind::Shortest,
@@ -241,6 +242,16 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             return Ok(ExitCode::FAILURE);
         }
     };
+    if let Some(p) = args
+        .planner
+        .filter(|p| *p != Planner::Ltl && compiled.ltl.is_some())
+    {
+        eprintln!(
+            "note: an LTL route is always planned by the LTL planner; `--planner {}` does not apply to it",
+            p.to_possible_value()
+                .map_or_else(String::new, |v| v.get_name().to_string())
+        );
+    }
     // Build every output before writing any.
     let ir_json = compiled.ir.to_json();
     let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;

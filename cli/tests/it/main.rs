@@ -14,5 +14,6 @@ mod faults_report;
 mod faults_rundir;
 mod import_cli;
 mod lsp_stdio;
+mod ltl_cli;
 mod run_cli;
 mod usability_cli;
