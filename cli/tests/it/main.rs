@@ -8,6 +8,7 @@ mod compile_cli;
 mod faults_episode;
 mod faults_io;
 mod faults_lsp;
+mod faults_replies;
 mod faults_report;
 mod faults_rundir;
 mod lsp_stdio;
