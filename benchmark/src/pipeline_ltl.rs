@@ -137,6 +137,9 @@ pub(crate) fn compile_ltl(
             avoid_names.push(name);
         }
     }
+    if let Some(m) = &opts.meter {
+        m.check().map_err(|d| fail(vec![*d], &warnings))?;
+    }
     let formula = with_avoids(&d.formula, &avoid_names);
     let names: Vec<String> = atoms.iter().map(|a| a.name.clone()).collect();
     let dfa = Dfa::build(&formula, &names, true).map_err(|e| {
@@ -145,11 +148,35 @@ pub(crate) fn compile_ltl(
             &warnings,
         )
     })?;
-    let budget = opts
+    let mut budget = opts
         .profile
         .max_expansions
         .saturating_mul(names.len().max(1) as u64);
-    let route = match plan_places(&problem.traversable, &masks, &dfa, problem.start, budget) {
+    if let Some(m) = &opts.meter {
+        m.check_product((n * n) as u64, dfa.states() as u64)
+            .map_err(|d| {
+                let mut d = *d;
+                d.span = span;
+                fail(vec![d], &warnings)
+            })?;
+        budget = m.plan_budget(budget);
+    }
+    let planned = plan_places(&problem.traversable, &masks, &dfa, problem.start, budget);
+    let spent = match &planned {
+        Ok(r) => r.expansions,
+        Err(
+            ProductFailure::Budget { expansions } | ProductFailure::NoAcceptingRoute { expansions },
+        ) => *expansions,
+        Err(_) => 0,
+    };
+    if let Some(m) = &opts.meter
+        && let (Err(d), Err(_)) = (m.spend(spent), &planned)
+    {
+        let mut d = *d;
+        d.span = span;
+        return Err(fail(vec![d], &warnings));
+    }
+    let route = match planned {
         Ok(r) => r,
         Err(e) => {
             let (message, help) = match e {

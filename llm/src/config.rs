@@ -151,8 +151,16 @@ pub struct LlmConfig {
     pub backoff_base: Duration,
     /// Longest wait between tries, also the cap on a server's `Retry-After`.
     pub backoff_max: Duration,
+    /// Largest response body read, in bytes; a longer body is not read to its end and the
+    /// request fails (`model_failed`), so a runaway or hostile server cannot exhaust memory.
+    pub max_response_bytes: usize,
     pub api_key: Option<ApiKey>,
 }
+
+/// Default of [`LlmConfig::max_response_bytes`]: 4 MiB, far above any chat completion that can
+/// hold a program within the 256 KiB program limit ([`crate::wire::MAX_REPLY_BYTES`]), with room
+/// for the JSON around it and for servers that return the prompt or log-probabilities.
+pub const DEFAULT_MAX_RESPONSE_BYTES: usize = 4 * 1024 * 1024;
 
 impl Default for LlmConfig {
     fn default() -> Self {
@@ -166,6 +174,7 @@ impl Default for LlmConfig {
             max_attempts: 5,
             backoff_base: Duration::from_millis(500),
             backoff_max: Duration::from_secs(60),
+            max_response_bytes: DEFAULT_MAX_RESPONSE_BYTES,
             api_key: None,
         }
     }

@@ -195,6 +195,9 @@ fn run_method(a: RunArgs) -> Result<ExitCode> {
                 b.path().display()
             );
         }
+        for w in m.store.warnings() {
+            eprintln!("warning: {w}");
+        }
         let s = m.store.stats();
         eprintln!(
             "model requests: {} answered from the cache, {} fetched, {} pending, {} failed{}",

@@ -51,6 +51,7 @@ pub enum RunEmit {
 }
 
 pub fn run(args: RunArgs) -> Result<ExitCode> {
+    crate::cmd::prompt::check_instruction(&args.instruction)?;
     if let Backend::Simulated(_) = args.llm.backend {
         return Err(unusable(anyhow::anyhow!(
             "--llm simulated answers from an episode's gold program, so `m2rc run` (which has no \
@@ -81,6 +82,9 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         store: &store,
         fetch: &client,
     };
+    let budget = m2rc_benchmark::budget::EpisodeBudget::from_args(&args.lower.budget)
+        .map_err(|e| crate::io::unusable(anyhow::Error::msg(e)))?;
+    let meter = std::sync::Arc::new(m2rc_benchmark::budget::Meter::new(budget));
     let key = format!("{}/run", map.map_id);
     let (prompt, trace) = lower_and_plan(
         &model,
@@ -90,17 +94,26 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         &key,
         &args.lower.prompt_options(),
         &args.lower.repair_options(),
-        &PipelineOptions::default(),
+        &PipelineOptions {
+            meter: Some(meter.clone()),
+            ..PipelineOptions::default()
+        },
     );
     eprintln!(
         "prompt: about {} tokens; model {}",
         prompt.estimated_tokens(),
         client.config().model
     );
+    let count = |n: Option<u64>| n.map_or("unknown".to_string(), |n| n.to_string());
     for a in &trace.attempts {
         eprintln!(
             "round {}: reply {} ({} prompt + {} completion tokens, {:.0} ms) -> {}",
-            a.round, a.reply, a.prompt_tokens, a.completion_tokens, a.latency_ms, a.outcome
+            a.round,
+            a.reply,
+            count(a.prompt_tokens),
+            count(a.completion_tokens),
+            a.latency_ms,
+            a.outcome
         );
         if let Some(p) = &a.program {
             for line in p.lines() {
@@ -120,6 +133,9 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
             eprintln!("    error: {e}");
         }
     }
+    for w in store.warnings() {
+        eprintln!("warning: {w}");
+    }
     if let Some(b) = &store.batch {
         let n = b.finish()?;
         eprintln!("wrote {n} batch request(s) to {}", b.path().display());
@@ -130,11 +146,11 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
             c
         }
         (outcome, _) => {
-            eprintln!(
-                "no route: {} after {} round(s)",
-                outcome.status(),
-                trace.attempts.len()
-            );
+            let status = match meter.exceeded() {
+                Some(why) => format!("budget_exceeded ({why})"),
+                None => outcome.status().to_string(),
+            };
+            eprintln!("no route: {status} after {} round(s)", trace.attempts.len());
             match outcome {
                 EpisodeOutcome::ModelFailed { .. } => eprintln!("{}", without_server(&args)),
                 EpisodeOutcome::Pending { .. } => eprintln!(

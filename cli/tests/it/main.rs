@@ -10,6 +10,7 @@ mod faults_episode;
 mod faults_io;
 mod faults_lsp;
 mod faults_outputs;
+mod faults_replies;
 mod faults_report;
 mod faults_rundir;
 mod import_cli;
