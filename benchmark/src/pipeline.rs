@@ -33,6 +33,9 @@ pub struct PipelineOptions {
     /// Applied to the verified RouteIR before it is planned (the ablations' scope removal,
     /// `ablate::scopes`); `None` plans it as grounded.
     pub transform: Option<fn(&mut RouteIr)>,
+    /// The episode's budget (`crate::budget`), shared by all its compiles; `None`: only the
+    /// planners' own per-plan limits apply.
+    pub meter: Option<std::sync::Arc<crate::budget::Meter>>,
 }
 
 impl Default for PipelineOptions {
@@ -43,6 +46,7 @@ impl Default for PipelineOptions {
             start: None,
             max_rounds: 4,
             transform: None,
+            meter: None,
         }
     }
 }
@@ -58,7 +62,8 @@ pub struct CompiledRoute {
     pub rounds: usize,
     /// Whether grounding against the final route reproduced the IR the route was planned from.
     pub stable: bool,
-    /// The formula of a `route ltl "..."` program (its RouteIR then holds one stage per atom).
+    /// The formula of a `route ltl "..."` program (its RouteIR then holds one stage per place the
+    /// formula asks the route to enter, in the order the route first enters them).
     pub ltl: Option<m2rc_compiler::ltl::LtlRoute>,
 }
 
@@ -92,6 +97,9 @@ fn compile(
     shared: Option<&MapContext>,
     opts: &PipelineOptions,
 ) -> Result<CompiledRoute, Vec<Diagnostic>> {
+    if let Some(m) = &opts.meter {
+        m.check().map_err(|d| vec![*d])?;
+    }
     let vocab = Vocabulary::from_map(map);
     let checked = check(source, &vocab);
     let mut warnings: Vec<Diagnostic> = checked
@@ -151,6 +159,9 @@ fn compile(
         if let Some(t) = opts.transform {
             t(&mut ir);
         }
+        if matches!(opts.planner, PlannerKind::Ltl) {
+            merge(&mut warnings, crate::pipeline_ltl::ignored_by_ltl(&ir));
+        }
         if let Some((prev_ir, prev_route)) = last.take() {
             if same_grounding(&prev_ir, &ir) {
                 return Ok(CompiledRoute {
@@ -173,11 +184,18 @@ fn compile(
                 });
             }
         }
+        // The episode's budget: checked before every plan, which gets what is left of it.
+        let mut profile = opts.profile.clone();
+        let own_budget = profile.max_expansions;
+        if let Some(m) = &opts.meter {
+            m.check().map_err(|d| with_warnings(vec![*d], &warnings))?;
+            profile.max_expansions = m.plan_budget(profile.max_expansions);
+        }
         // One planning context per map: the re-plan rounds share its distance fields.
         let problem = match shared {
-            Some(c) => lower_with(&ir, map, c, opts.profile.clone()),
+            Some(c) => lower_with(&ir, map, c, profile),
             None => match owned.get_or_insert_with(|| MapContext::new(map)) {
-                Ok(c) => lower_with(&ir, map, c, opts.profile.clone()),
+                Ok(c) => lower_with(&ir, map, c, profile),
                 Err(m) => Err(m.clone()),
             },
         };
@@ -189,8 +207,26 @@ fn compile(
         })?;
         let planned = plan(&problem, opts.planner);
         rounds += 1;
+        // A search stopped at a budget the meter lowered has spent the episode's budget.
+        let cut_short = problem.profile.max_expansions != own_budget
+            && planned
+                .failure
+                .as_ref()
+                .is_some_and(|f| f.code() == Code::BudgetExceeded.id());
+        let spent = opts.meter.as_ref().map(|m| {
+            m.spend(if cut_short {
+                u64::MAX
+            } else {
+                planned.expansions
+            })
+        });
         if !planned.is_success() {
-            return Err(with_warnings(vec![plan_failure(&ir, &planned)], &warnings));
+            // A search cut short by the episode's budget is reported as that.
+            let why = match spent {
+                Some(Err(d)) => *d,
+                _ => plan_failure(&ir, &planned),
+            };
+            return Err(with_warnings(vec![why], &warnings));
         }
         if ir.route_bindings.is_empty() {
             return Ok(CompiledRoute {

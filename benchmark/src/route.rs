@@ -111,19 +111,15 @@ pub fn validate_points(list: &[Value], n: usize, label: &str) -> Result<Vec<[i64
 /// Reads and validates a route file.
 pub fn read_route(path: &Path, n: usize) -> Result<Vec<[i64; 2]>, RouteError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| RouteError::Io {
-        file: file.clone(),
-        source,
-    })?;
+    let text = crate::route_read::read_route_text(path)?;
     parse_route_text(&text, n, &file)
 }
 
-/// Parses and validates route JSON text; `file` names it in errors.
+/// Parses and validates route JSON text; `file` names it in errors. Parsed within bounded memory
+/// (`crate::route_read`): only the trajectory is kept, and a list past [`MAX_ROUTE_POINTS`] is
+/// refused as it is read.
 pub fn parse_route_text(text: &str, n: usize, file: &str) -> Result<Vec<[i64; 2]>, RouteError> {
-    let value: Value = serde_json::from_str(text).map_err(|source| RouteError::Json {
-        file: file.to_string(),
-        source,
-    })?;
+    let value = crate::route_read::parse_bounded(text, file)?;
     parse_route(&value, n, file)
 }
 

@@ -148,6 +148,34 @@ pub fn read_bytes(path: &Path) -> Result<Vec<u8>> {
     std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
 }
 
+/// Reads a file (`-`: standard input) of at most `limit` bytes as UTF-8, naming the file in the
+/// error. The size is checked while reading (one byte past the limit at most is read), so a huge
+/// or endless input is refused before it takes memory; `what` names the limit in the message.
+pub fn read_to_string_capped(path: &Path, limit: usize, what: &str) -> Result<String> {
+    let name = display_name(path);
+    let mut bytes = Vec::new();
+    let read = if is_dash(path) {
+        if STDIN_TAKEN.swap(true, Ordering::SeqCst) {
+            return Err(unusable(anyhow::anyhow!(
+                "only one input can be `-` (standard input) per command"
+            )));
+        }
+        std::io::stdin()
+            .lock()
+            .take(limit as u64 + 1)
+            .read_to_end(&mut bytes)
+    } else {
+        std::fs::File::open(path).and_then(|f| f.take(limit as u64 + 1).read_to_end(&mut bytes))
+    };
+    read.with_context(|| format!("cannot read {name}"))?;
+    if bytes.len() > limit {
+        return Err(anyhow::anyhow!(
+            "{name}: more than {limit} bytes, the limit of {what}"
+        ));
+    }
+    String::from_utf8(bytes).map_err(|_| unusable(anyhow::anyhow!("{name}: not UTF-8 text")))
+}
+
 /// Reads a whole file (`-`: standard input) as UTF-8, naming the file in the error.
 pub fn read_to_string(path: &Path) -> Result<String> {
     let bytes = read_bytes(path)?;

@@ -6,6 +6,10 @@
 //! * A body that is not JSON gets a JSON-RPC parse error (-32700), and JSON that is not a
 //!   JSON-RPC message an invalid-request error (-32600), and the server reads on.
 //! * Reading stops after the `exit` notification, as the protocol ends there.
+//! * A stream that cannot be framed any more (no `Content-Length`, a header that is not text, a
+//!   message cut off by the end of the stream) gets a parse error, reading stops, and
+//!   [`Transport::broken`] says why, so that the server exits non-zero saying so instead of
+//!   looking like a clean end.
 
 use lsp_server::{Connection, Message};
 use serde_json::{Value, json};
@@ -21,9 +25,19 @@ const MAX_HEADER_LINE: u64 = 8 * 1024;
 /// The threads behind a [`stdio`] connection.
 pub struct Transport {
     writer: JoinHandle<()>,
+    broken: Arc<Mutex<Option<String>>>,
 }
 
 impl Transport {
+    /// Why reading stopped before the client ended the stream or sent `exit`, if it did. Set
+    /// before the reader lets go of the connection, so it is known once the server loop ends.
+    pub fn broken(&self) -> Option<String> {
+        self.broken
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .clone()
+    }
+
     /// Waits until everything the server sent is written. The reader is not waited for: it may
     /// be blocked on a client that keeps its end open, and it dies with the process.
     pub fn join(self) {
@@ -46,7 +60,12 @@ pub fn stdio() -> (Connection, Transport) {
         }
     });
     let tx = client.sender;
+    let broken = Arc::new(Mutex::new(None));
+    let broken_r = Arc::clone(&broken);
     std::thread::spawn(move || {
+        let stop = |why: String| {
+            *broken_r.lock().unwrap_or_else(|p| p.into_inner()) = Some(why);
+        };
         let stdin = std::io::stdin();
         let mut input = BufReader::new(stdin.lock());
         let raw = |body: Value| {
@@ -60,6 +79,7 @@ pub fn stdio() -> (Connection, Transport) {
                 Frame::End => break,
                 Frame::Broken(why) => {
                     raw(error(Value::Null, -32700, &why));
+                    stop(why);
                     break;
                 }
                 Frame::TooLarge(n) => {
@@ -72,6 +92,9 @@ pub fn stdio() -> (Connection, Transport) {
                     ));
                     let skipped = std::io::copy(&mut (&mut input).take(n), &mut std::io::sink());
                     if skipped.map_or(true, |k| k < n) {
+                        stop(format!(
+                            "the stream ended inside a message of {n} bytes (Content-Length)"
+                        ));
                         break;
                     }
                 }
@@ -87,7 +110,7 @@ pub fn stdio() -> (Connection, Transport) {
             }
         }
     });
-    (server, Transport { writer })
+    (server, Transport { writer, broken })
 }
 
 fn error(id: Value, code: i64, message: &str) -> Value {
@@ -150,10 +173,13 @@ fn read_frame(input: &mut impl BufRead) -> Frame {
     if n > MAX_CONTENT_LENGTH as u64 {
         return Frame::TooLarge(n);
     }
-    let mut body = vec![0u8; n as usize];
-    match input.read_exact(&mut body) {
-        Ok(()) => Frame::Body(body),
-        Err(_) => Frame::End,
+    let mut body = Vec::with_capacity(n as usize);
+    match input.take(n).read_to_end(&mut body) {
+        Ok(k) if k as u64 == n => Frame::Body(body),
+        Ok(k) => Frame::Broken(format!(
+            "the stream ended inside a message: Content-Length {n}, {k} bytes followed"
+        )),
+        Err(e) => Frame::Broken(format!("cannot read a message body: {e}")),
     }
 }
 
@@ -179,5 +205,12 @@ mod tests {
         );
         let mut input: &[u8] = b"Content-Type: x\r\n\r\n";
         assert!(matches!(read_frame(&mut input), Frame::Broken(_)));
+        let mut input: &[u8] = b"Content-Length: 10\r\n\r\n{}";
+        let Frame::Broken(why) = read_frame(&mut input) else {
+            panic!("a cut-off body is a broken stream")
+        };
+        assert!(why.contains("Content-Length 10, 2 bytes"), "{why}");
+        let mut input: &[u8] = b"";
+        assert!(matches!(read_frame(&mut input), Frame::End));
     }
 }

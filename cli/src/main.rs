@@ -4,6 +4,7 @@
 mod cmd;
 mod io;
 mod lsp_stdio;
+mod outputs;
 mod suite_layout;
 
 use clap::{Parser, Subcommand};

@@ -49,11 +49,14 @@ pub struct LlmArgs {
     /// Longest wait between tries in milliseconds (also caps `Retry-After`).
     #[arg(long, default_value_t = 60_000)]
     pub llm_max_backoff_ms: u64,
+    /// Largest response body read, in MiB (a longer one is not read and the request fails).
+    #[arg(long, default_value_t = 4)]
+    pub llm_max_response_mb: u64,
     /// Read the API key from this file (otherwise from M2R_LLM_API_KEY, if set).
     #[arg(long)]
     pub llm_api_key_file: Option<PathBuf>,
-    /// Response cache directory (default: <run dir>/llm-cache for `bench run`, .m2rc/llm-cache
-    /// for `m2rc run`).
+    /// Response cache directory (default: <run dir>/llm-cache for `bench run`; for `m2rc run`
+    /// $XDG_CACHE_HOME/m2rc/llm-cache, else ~/.cache/m2rc/llm-cache).
     #[arg(long)]
     pub llm_cache: Option<PathBuf>,
     /// Do not read or write the response cache.
@@ -69,6 +72,40 @@ pub struct LlmArgs {
     /// Import replies in the OpenAI Batch output format into the cache before running (repeatable).
     #[arg(long)]
     pub llm_batch_in: Vec<PathBuf>,
+    /// Let --llm-batch-out replace a file that already holds something (it may be an earlier
+    /// export, or a provider's output that cost money).
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// Refuses a batch export that would destroy a file the user may still need: one of the
+/// `--llm-batch-in` files (the provider's output), or, without `--force`, any non-empty file.
+fn check_batch_out(out: &Path, inputs: &[PathBuf], force: bool) -> Result<(), String> {
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    };
+    if let Some(input) = inputs.iter().find(|i| same(out, i)) {
+        return Err(format!(
+            "--llm-batch-out {} is the file --llm-batch-in {} reads: writing the new requests \
+             there would destroy the replies; name another output file",
+            out.display(),
+            input.display()
+        ));
+    }
+    if let Ok(meta) = std::fs::metadata(out)
+        && meta.is_file()
+        && meta.len() > 0
+        && !force
+    {
+        return Err(format!(
+            "--llm-batch-out {} already holds {} bytes (an earlier export, or replies?); name \
+             another file, or pass --force to replace it",
+            out.display(),
+            meta.len()
+        ));
+    }
+    Ok(())
 }
 
 impl LlmArgs {
@@ -112,6 +149,12 @@ impl LlmArgs {
         if self.llm_concurrency == 0 {
             return Err("--llm-concurrency must be at least 1".into());
         }
+        if !(1..=1024).contains(&self.llm_max_response_mb) {
+            return Err(format!(
+                "--llm-max-response-mb {} is not within 1..1024",
+                self.llm_max_response_mb
+            ));
+        }
         Ok(LlmConfig {
             base_url: self.llm_base_url.clone().unwrap_or_default(),
             model: self.llm_model.clone(),
@@ -122,6 +165,7 @@ impl LlmArgs {
             max_attempts: self.llm_max_attempts.max(1),
             backoff_base: Duration::from_millis(self.llm_backoff_ms),
             backoff_max: Duration::from_millis(self.llm_max_backoff_ms),
+            max_response_bytes: (self.llm_max_response_mb as usize) << 20,
             api_key: self.api_key()?,
         })
     }
@@ -146,6 +190,9 @@ impl LlmArgs {
     /// and a line about the import for the user, if any.
     pub fn store(&self, default_cache: &Path) -> Result<(Store, Option<String>), String> {
         let cache = self.cache_dir(default_cache).map(ResponseCache::new);
+        if let Some(out) = &self.llm_batch_out {
+            check_batch_out(out, &self.llm_batch_in, self.force)?;
+        }
         let mut note = None;
         if !self.llm_batch_in.is_empty() {
             let Some(c) = &cache else {
@@ -157,14 +204,27 @@ impl LlmArgs {
                 r.imported,
                 c.dir().display()
             );
+            if !r.already.is_empty() {
+                line.push_str(&format!("; {} already imported", r.already.len()));
+            }
             if !r.unknown.is_empty() {
                 line.push_str(&format!(
-                    "; {} unknown custom_id(s) skipped",
+                    "; {} reply(s) to requests this run never exported skipped",
                     r.unknown.len()
                 ));
             }
-            for f in &r.failed {
-                line.push_str(&format!("\n  batch reply not imported: {f}"));
+            // The first few of each kind, each naming its line; the counts say the rest.
+            for (label, list) in [
+                ("batch reply not imported", &r.failed),
+                ("batch reply of an unknown request", &r.unknown),
+                ("warning", &r.warnings),
+            ] {
+                for f in list.iter().take(20) {
+                    line.push_str(&format!("\n  {label}: {f}"));
+                }
+                if list.len() > 20 {
+                    line.push_str(&format!("\n  {label}: ... and {} more", list.len() - 20));
+                }
             }
             note = Some(line);
         }
@@ -202,6 +262,27 @@ pub struct LowerArgs {
     /// Worked examples in the prompt (from tests/ui/real, never from the scene being solved).
     #[arg(long, default_value_t = 5)]
     pub examples: usize,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
+}
+
+/// The per-episode budget of compiling and planning a model's programs (`m2rc run`, `bench run
+/// --method grounding2route`): see `m2rc_benchmark::budget`. An episode over it is recorded as
+/// `budget_exceeded` and the run goes on.
+#[derive(Args, Clone, Debug)]
+pub struct BudgetArgs {
+    /// Planner expansions one episode may use over all its programs and plans (0 = no limit);
+    /// reproducible.
+    #[arg(long, default_value_t = 20_000_000)]
+    pub episode_max_expansions: u64,
+    /// Estimated memory one product-graph (LTL) search of an episode may take, in MiB (0 = no
+    /// limit); reproducible.
+    #[arg(long, default_value_t = 2048)]
+    pub episode_max_product_mb: u64,
+    /// Wall time one episode's compiling and planning may take, in seconds (default: no limit);
+    /// checked between phases, and not reproducible (the record says "wall time").
+    #[arg(long)]
+    pub episode_max_seconds: Option<f64>,
 }
 
 impl LowerArgs {

@@ -84,21 +84,41 @@ impl ResponseCache {
         write_atomic(&self.entry_path(key), &bytes)
     }
 
-    /// Remembers which key a batch `custom_id` stands for.
-    pub fn put_pending(&self, custom_id: &str, key: &str) -> std::io::Result<()> {
+    /// Remembers which key a batch `custom_id` stands for, and the model it was asked of.
+    pub fn put_pending(&self, custom_id: &str, key: &str, model: &str) -> std::io::Result<()> {
         let bytes =
-            serde_json::to_vec(&json!({"custom_id": custom_id, "key": key})).unwrap_or_default();
+            serde_json::to_vec(&json!({"custom_id": custom_id, "key": key, "model": model}))
+                .unwrap_or_default();
         write_atomic(&self.pending_path(custom_id), &bytes)
     }
 
     /// The key a batch `custom_id` was exported with.
     pub fn pending_key(&self, custom_id: &str) -> Option<String> {
+        self.pending(custom_id).map(|(k, _)| k)
+    }
+
+    /// The key and the model a batch `custom_id` was exported with.
+    pub fn pending(&self, custom_id: &str) -> Option<(String, Option<String>)> {
         let bytes = std::fs::read(self.pending_path(custom_id)).ok()?;
         let v: Value = serde_json::from_slice(&bytes).ok()?;
         if v.get("custom_id").and_then(Value::as_str) != Some(custom_id) {
             return None;
         }
-        v.get("key").and_then(Value::as_str).map(str::to_string)
+        let key = v.get("key").and_then(Value::as_str)?.to_string();
+        let model = v.get("model").and_then(Value::as_str).map(str::to_string);
+        Some((key, model))
+    }
+
+    /// Whether an entry whose key starts with `prefix` (at least two hex digits) is cached.
+    pub fn has_key_prefix(&self, prefix: &str) -> bool {
+        if prefix.len() < 2 || !prefix.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return false;
+        }
+        std::fs::read_dir(self.dir.join(&prefix[..2])).is_ok_and(|entries| {
+            entries
+                .flatten()
+                .any(|e| e.file_name().to_string_lossy().starts_with(prefix))
+        })
     }
 
     pub fn clear_pending(&self, custom_id: &str) {
@@ -151,7 +171,9 @@ mod tests {
         assert_eq!(c.get(&k), Some((json!({"choices": []}), 12.0)));
         std::fs::write(c.entry_path(&k), b"{not json").unwrap();
         assert!(c.get(&k).is_none());
-        c.put_pending("a/round1", &k).unwrap();
+        c.put_pending("a/round1", &k, "m").unwrap();
+        assert_eq!(c.pending("a/round1"), Some((k.clone(), Some("m".into()))));
+        assert!(c.has_key_prefix(&k[..16]) && !c.has_key_prefix("zz"));
         assert_eq!(c.pending_key("a/round1"), Some(k.clone()));
         c.clear_pending("a/round1");
         assert_eq!(c.pending_key("a/round1"), None);

@@ -6,13 +6,20 @@
 //! ±50 % jitter, or the server's `Retry-After` (seconds) when it sends one, both capped at
 //! `backoff_max`. Other 4xx answers fail at once. The final failure names the request and the last
 //! cause, with the API key redacted.
+//!
+//! Redirects are never followed: a redirected POST would send the request (and, to the same
+//! origin, the key) somewhere the user did not name; a 3xx answer fails at once and names the
+//! location to put into `--llm-base-url`. A response body is read only up to
+//! [`LlmConfig::max_response_bytes`] (`--llm-max-response-mb`); a longer one fails the request
+//! without being read to its end.
 
 use crate::config::LlmConfig;
 use crate::exchange::{Fetch, Fetched};
 use crate::wire::parse_completion;
 use m2rc_compiler::lower::{ChatError, ChatRequest};
-use reqwest::header::{AUTHORIZATION, CONTENT_TYPE, RETRY_AFTER};
+use reqwest::header::{AUTHORIZATION, CONTENT_LENGTH, CONTENT_TYPE, LOCATION, RETRY_AFTER};
 use serde_json::Value;
+use std::io::Read;
 use std::sync::{Condvar, Mutex};
 use std::time::{Duration, Instant};
 
@@ -81,6 +88,7 @@ impl HttpClient {
         let http = reqwest::blocking::Client::builder()
             .timeout(cfg.timeout)
             .connect_timeout(cfg.timeout.min(Duration::from_secs(10)))
+            .redirect(reqwest::redirect::Policy::none())
             .build()
             .map_err(|e| format!("cannot start the HTTP client: {e}"))?;
         let gate = Gate::new(cfg.concurrency);
@@ -117,7 +125,7 @@ impl HttpClient {
             message: if e.is_timeout() {
                 format!("timed out after {:.1} s", self.cfg.timeout.as_secs_f64())
             } else if e.is_connect() {
-                "cannot connect to the server".to_string()
+                format!("cannot connect to {}", self.cfg.endpoint())
             } else {
                 format!("request failed: {}", e.without_url())
             },
@@ -133,7 +141,22 @@ impl HttpClient {
             .and_then(|s| s.trim().parse::<f64>().ok())
             .filter(|s| s.is_finite() && *s >= 0.0)
             .map(Duration::from_secs_f64);
-        let bytes = resp.bytes().map_err(transport)?;
+        if status.is_redirection() {
+            let to = resp
+                .headers()
+                .get(LOCATION)
+                .and_then(|v| v.to_str().ok())
+                .map(|l| l.chars().take(200).collect::<String>())
+                .unwrap_or_else(|| "an unnamed location".into());
+            return Err(TryError {
+                message: format!(
+                    "HTTP {status}: the server redirects to {to}; redirects are not followed for \
+                     a POST (set --llm-base-url to the server's own address)"
+                ),
+                retry: false,
+                retry_after: None,
+            });
+        }
         if status.as_u16() == 429 || status.is_server_error() {
             return Err(TryError {
                 message: format!("HTTP {status}"),
@@ -141,6 +164,24 @@ impl HttpClient {
                 retry_after,
             });
         }
+        let bytes = self.read_body(resp).map_err(|e| match e {
+            BodyError::Transport(e) => transport(e),
+            BodyError::Io(message) => TryError {
+                message: format!("cannot read the response: {message}"),
+                retry: true,
+                retry_after: None,
+            },
+            BodyError::TooLarge(declared) => TryError {
+                message: format!(
+                    "the response body is {}more than the limit of {} bytes \
+                     (--llm-max-response-mb); it was not read",
+                    declared.map_or(String::new(), |n| format!("{n} bytes, ")),
+                    self.cfg.max_response_bytes
+                ),
+                retry: false,
+                retry_after: None,
+            },
+        })?;
         if !status.is_success() {
             let snippet: String = String::from_utf8_lossy(&bytes).chars().take(300).collect();
             return Err(TryError {
@@ -160,6 +201,47 @@ impl HttpClient {
             retry_after: None,
         })?;
         Ok(value)
+    }
+}
+
+/// Why a body was not read.
+enum BodyError {
+    Transport(reqwest::Error),
+    Io(String),
+    /// Past the limit; the length the server declared, if it did.
+    TooLarge(Option<u64>),
+}
+
+impl HttpClient {
+    /// The body, read up to the configured limit: a `Content-Length` past it is refused before
+    /// reading, and a body without one is read to one byte past the limit at most.
+    fn read_body(&self, resp: reqwest::blocking::Response) -> Result<Vec<u8>, BodyError> {
+        let cap = self.cfg.max_response_bytes;
+        let declared = resp
+            .headers()
+            .get(CONTENT_LENGTH)
+            .and_then(|v| v.to_str().ok())
+            .and_then(|s| s.trim().parse::<u64>().ok());
+        if let Some(n) = declared.filter(|n| *n > cap as u64) {
+            return Err(BodyError::TooLarge(Some(n)));
+        }
+        let mut bytes = Vec::new();
+        let mut limited = resp.take(cap as u64 + 1);
+        if let Err(e) = limited.read_to_end(&mut bytes) {
+            // reqwest's reader wraps its own error; keep it so a timeout is reported as one.
+            let text = e.to_string();
+            return match e
+                .into_inner()
+                .and_then(|b| b.downcast::<reqwest::Error>().ok())
+            {
+                Some(r) => Err(BodyError::Transport(*r)),
+                None => Err(BodyError::Io(text)),
+            };
+        }
+        if bytes.len() > cap {
+            return Err(BodyError::TooLarge(None));
+        }
+        Ok(bytes)
     }
 }
 

@@ -4,6 +4,35 @@
 use serde::{Deserialize, Serialize};
 use std::time::Duration;
 
+/// Where `m2rc run` keeps its response cache unless `--llm-cache` says otherwise:
+/// `$XDG_CACHE_HOME/m2rc/llm-cache`, else `$HOME/.cache/m2rc/llm-cache` (the XDG base-directory
+/// rule; a relative `XDG_CACHE_HOME` is ignored, as the rule says), else `.m2rc/llm-cache` in the
+/// working directory when neither variable is set. A user's cache, not a project's: running in a
+/// checkout must not leave a directory behind in it.
+pub fn default_run_cache() -> std::path::PathBuf {
+    default_run_cache_from(
+        std::env::var_os("XDG_CACHE_HOME").as_deref(),
+        std::env::var_os("HOME").as_deref(),
+    )
+}
+
+fn default_run_cache_from(
+    xdg: Option<&std::ffi::OsStr>,
+    home: Option<&std::ffi::OsStr>,
+) -> std::path::PathBuf {
+    use std::path::{Path, PathBuf};
+    let absolute = |v: Option<&std::ffi::OsStr>| {
+        v.map(Path::new)
+            .filter(|p| p.is_absolute())
+            .map(Path::to_path_buf)
+    };
+    let base = absolute(xdg).or_else(|| absolute(home).map(|h| h.join(".cache")));
+    match base {
+        Some(b) => b.join("m2rc").join("llm-cache"),
+        None => PathBuf::from(".m2rc").join("llm-cache"),
+    }
+}
+
 /// A credential. It has no `Display`, its `Debug` prints `ApiKey(***)`, and it is not
 /// serialisable, so it cannot end up in a record, a cache entry or a log line by accident.
 #[derive(Clone, PartialEq, Eq)]
@@ -122,8 +151,16 @@ pub struct LlmConfig {
     pub backoff_base: Duration,
     /// Longest wait between tries, also the cap on a server's `Retry-After`.
     pub backoff_max: Duration,
+    /// Largest response body read, in bytes; a longer body is not read to its end and the
+    /// request fails (`model_failed`), so a runaway or hostile server cannot exhaust memory.
+    pub max_response_bytes: usize,
     pub api_key: Option<ApiKey>,
 }
+
+/// Default of [`LlmConfig::max_response_bytes`]: 4 MiB, far above any chat completion that can
+/// hold a program within the 256 KiB program limit ([`crate::wire::MAX_REPLY_BYTES`]), with room
+/// for the JSON around it and for servers that return the prompt or log-probabilities.
+pub const DEFAULT_MAX_RESPONSE_BYTES: usize = 4 * 1024 * 1024;
 
 impl Default for LlmConfig {
     fn default() -> Self {
@@ -137,6 +174,7 @@ impl Default for LlmConfig {
             max_attempts: 5,
             backoff_base: Duration::from_millis(500),
             backoff_max: Duration::from_secs(60),
+            max_response_bytes: DEFAULT_MAX_RESPONSE_BYTES,
             api_key: None,
         }
     }
@@ -178,6 +216,28 @@ mod tests {
         assert_eq!(format!("{k:?}"), "ApiKey(***)");
         assert_eq!(k.redact("bearer sk-secret-123 x"), "bearer *** x");
         assert!(ApiKey::new("  ").is_none());
+    }
+
+    #[test]
+    fn the_run_cache_lives_in_the_user_cache_directory() {
+        use std::ffi::OsStr;
+        use std::path::PathBuf;
+        let c = |x: Option<&str>, h: Option<&str>| {
+            default_run_cache_from(x.map(OsStr::new), h.map(OsStr::new))
+        };
+        assert_eq!(
+            c(Some("/x/cache"), Some("/home/u")),
+            PathBuf::from("/x/cache/m2rc/llm-cache")
+        );
+        assert_eq!(
+            c(None, Some("/home/u")),
+            PathBuf::from("/home/u/.cache/m2rc/llm-cache")
+        );
+        assert_eq!(
+            c(Some("rel"), Some("/home/u")),
+            PathBuf::from("/home/u/.cache/m2rc/llm-cache")
+        );
+        assert_eq!(c(None, None), PathBuf::from(".m2rc/llm-cache"));
     }
 
     #[test]

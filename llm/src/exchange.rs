@@ -3,9 +3,9 @@
 //! before it is used. [`Store`] is shared by all episodes of a run; the backend ([`Fetch`]) may be
 //! made per episode (the simulated model knows its episode's gold program).
 
-use crate::batch::BatchOut;
+use crate::batch::{BatchOut, export_id};
 use crate::cache::{ResponseCache, cache_key};
-use crate::wire::{parse_completion, request_body};
+use crate::wire::{check_reply_size, parse_completion, request_body};
 use m2rc_compiler::lower::{ChatError, ChatModel, ChatReply, ChatRequest};
 use serde::Serialize;
 use serde_json::Value;
@@ -40,6 +40,10 @@ pub struct ExchangeStats {
     pub pending: usize,
     pub failed: usize,
     pub corrupt_cache_entries: usize,
+    /// Replies whose `usage` was not a token count (recorded as unknown).
+    pub invalid_usage: usize,
+    /// Replies refused for their size (longer than a program may be).
+    pub oversized: usize,
 }
 
 /// What every episode of a run shares: the cache, the batch file, the mode.
@@ -71,6 +75,47 @@ impl Store {
             f(&mut s);
         }
     }
+
+    /// What the user should hear about the replies (invalid token counts, oversized replies),
+    /// one line each, for the command to print at the end.
+    pub fn warnings(&self) -> Vec<String> {
+        let s = self.stats();
+        let mut out = Vec::new();
+        if s.invalid_usage > 0 {
+            out.push(format!(
+                "{} model repl{} had a `usage` that is not a token count (negative, fractional \
+                 or absurdly large); recorded as unknown (null), not as 0",
+                s.invalid_usage,
+                if s.invalid_usage == 1 { "y" } else { "ies" }
+            ));
+        }
+        if s.oversized > 0 {
+            out.push(format!(
+                "{} model repl{} longer than the {} byte program limit; recorded as model_failed",
+                s.oversized,
+                if s.oversized == 1 {
+                    "y was"
+                } else {
+                    "ies were"
+                },
+                crate::wire::MAX_REPLY_BYTES
+            ));
+        }
+        out
+    }
+
+    /// A parsed reply, counted and checked before the repair loop sees it: a reply too long to
+    /// hold a program fails the request (so it is never compiled or stored in a record).
+    fn admit(&self, request: &ChatRequest, reply: ChatReply) -> Result<ChatReply, ChatError> {
+        if reply.usage.is_unknown() {
+            self.count(|s| s.invalid_usage += 1);
+        }
+        if let Err(e) = check_reply_size(&reply) {
+            self.count(|s| s.oversized += 1);
+            return Err(ChatError::Failed(format!("{}: {e}", request.custom_id)));
+        }
+        Ok(reply)
+    }
 }
 
 /// A [`ChatModel`] over a store and a backend.
@@ -96,15 +141,15 @@ impl ChatModel for Exchange<'_> {
             match parse_completion(&response, latency) {
                 Ok(reply) => {
                     store.count(|s| s.cache_hits += 1);
-                    return Ok(reply);
+                    return store.admit(request, reply);
                 }
                 Err(_) => store.count(|s| s.corrupt_cache_entries += 1),
             }
         }
         if let (Some(batch), Some(cache)) = (&store.batch, &store.cache) {
             let recorded = cache
-                .put_pending(&request.custom_id, &key)
-                .and_then(|()| batch.add(&request.custom_id, &body));
+                .put_pending(&request.custom_id, &key, f.model())
+                .and_then(|()| batch.add(&export_id(&request.custom_id, &key), &body));
             return match recorded {
                 Ok(()) => {
                     store.count(|s| s.pending += 1);
@@ -147,6 +192,6 @@ impl ChatModel for Exchange<'_> {
             );
         }
         store.count(|s| s.fetched += 1);
-        Ok(reply)
+        store.admit(request, reply)
     }
 }

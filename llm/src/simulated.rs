@@ -95,12 +95,14 @@ impl Fetch for SimulatedModel {
         };
         let content = format!("```m2r\n{program}```");
         let usage = Usage {
-            prompt_tokens: request
-                .messages
-                .iter()
-                .map(|m| estimate_tokens(&m.content) as u64)
-                .sum(),
-            completion_tokens: estimate_tokens(&content) as u64,
+            prompt_tokens: Some(
+                request
+                    .messages
+                    .iter()
+                    .map(|m| estimate_tokens(&m.content) as u64)
+                    .sum(),
+            ),
+            completion_tokens: Some(estimate_tokens(&content) as u64),
         };
         Ok(Fetched {
             response: completion_body(&self.name, &content, usage),

@@ -40,13 +40,13 @@ pub fn parse_completion(body: &Value, latency_ms: f64) -> Result<ChatReply, Stri
         .get("choices")
         .and_then(Value::as_array)
         .ok_or_else(|| "the response has no `choices` array".to_string())?;
-    let usage = obj.get("usage").map_or(Usage::default(), |u| Usage {
-        prompt_tokens: u.get("prompt_tokens").and_then(Value::as_u64).unwrap_or(0),
-        completion_tokens: u
-            .get("completion_tokens")
-            .and_then(Value::as_u64)
-            .unwrap_or(0),
-    });
+    let usage = match obj.get("usage") {
+        None | Some(Value::Null) => Usage::default(),
+        Some(u) => Usage {
+            prompt_tokens: token_count(u.get("prompt_tokens")),
+            completion_tokens: token_count(u.get("completion_tokens")),
+        },
+    };
     let first = choices.first();
     let message = first.and_then(|c| c.get("message"));
     let text = |v: Option<&Value>| v.and_then(Value::as_str).map(str::to_string);
@@ -58,6 +58,36 @@ pub fn parse_completion(body: &Value, latency_ms: f64) -> Result<ChatReply, Stri
         usage,
         latency_ms,
     })
+}
+
+/// The largest reply content taken from a model, in bytes: the program limit
+/// (`m2rc_benchmark::limits::MAX_PROGRAM_BYTES`, 256 KiB). A longer reply cannot hold an
+/// acceptable program, so it is refused before it is extracted, compiled or stored in a record.
+pub const MAX_REPLY_BYTES: usize = 256 * 1024;
+
+/// The most tokens one reply can plausibly account for (a billion); a larger figure is a broken
+/// or hostile server's, not a count.
+pub const MAX_TOKEN_COUNT: u64 = 1_000_000_000;
+
+/// A `usage` token count: absent is 0 (the server reports none); anything but a whole number in
+/// `0..=MAX_TOKEN_COUNT` is unknown.
+fn token_count(v: Option<&Value>) -> Option<u64> {
+    match v {
+        None | Some(Value::Null) => Some(0),
+        Some(v) => v.as_u64().filter(|n| *n <= MAX_TOKEN_COUNT),
+    }
+}
+
+/// Why a reply is refused before its content is used: too long to hold a program.
+pub fn check_reply_size(reply: &ChatReply) -> Result<(), String> {
+    let n = reply.content.as_ref().map_or(0, String::len);
+    if n > MAX_REPLY_BYTES {
+        return Err(format!(
+            "the reply is {n} bytes, more than the limit of {MAX_REPLY_BYTES} bytes of a program; \
+             it was not compiled"
+        ));
+    }
+    Ok(())
 }
 
 /// A completion body holding one assistant message (used by the simulated model, so its replies
@@ -74,7 +104,7 @@ pub fn completion_body(model: &str, content: &str, usage: Usage) -> Value {
         "usage": {
             "prompt_tokens": usage.prompt_tokens,
             "completion_tokens": usage.completion_tokens,
-            "total_tokens": usage.prompt_tokens + usage.completion_tokens,
+            "total_tokens": usage.prompt_tokens.zip(usage.completion_tokens).map(|(p, c)| p + c),
         },
     })
 }
@@ -90,7 +120,7 @@ mod tests {
         let r = parse_completion(&b, 1.5).unwrap();
         assert_eq!(r.content.as_deref(), Some("hi"));
         assert_eq!(r.finish_reason.as_deref(), Some("length"));
-        assert_eq!(r.usage.completion_tokens, 4);
+        assert_eq!(r.usage.completion_tokens, Some(4));
         assert_eq!(
             parse_completion(&json!({"choices": []}), 0.0)
                 .unwrap()
@@ -105,5 +135,31 @@ mod tests {
         assert!(parse_completion(&json!([1]), 0.0).is_err());
         let e = parse_completion(&json!({"error": {"message": "bad"}}), 0.0).unwrap_err();
         assert!(e.contains("bad"));
+    }
+
+    #[test]
+    fn invalid_usage_is_unknown_not_zero() {
+        let with = |usage: Value| {
+            parse_completion(&json!({"choices": [], "usage": usage}), 0.0)
+                .unwrap()
+                .usage
+        };
+        for bad in [
+            json!(-5),
+            json!(1e300),
+            json!(2.5),
+            json!("12"),
+            json!(u64::MAX),
+        ] {
+            let u = with(json!({"prompt_tokens": bad, "completion_tokens": 3}));
+            assert_eq!(u.prompt_tokens, None, "{bad}");
+            assert_eq!(u.completion_tokens, Some(3));
+            assert!(u.is_unknown());
+        }
+        assert_eq!(with(json!({"prompt_tokens": 7})).completion_tokens, Some(0));
+        let none = parse_completion(&json!({"choices": []}), 0.0)
+            .unwrap()
+            .usage;
+        assert!(!none.is_unknown());
     }
 }

@@ -58,8 +58,39 @@ pub enum ProductFailure {
     NoAcceptingRoute { expansions: u64 },
     /// The budget ran out first.
     Budget { expansions: u64 },
-    /// Masks of the wrong size or count, or a product too large to index.
+    /// Masks of the wrong size or count.
     Invalid(String),
+    /// The grid times the automaton has more than [`MAX_PRODUCT_STATES`] states: refused before
+    /// the search allocates its tables.
+    TooLarge { cells: usize, states: usize },
+}
+
+/// Search states (grid cell, automaton state) the product may have: the search keeps about 13
+/// bytes per state (distance, predecessor, closed flag), so this bounds it near 440 MB. The
+/// largest fixture house (733 × 733 cells) fits an automaton of 62 states.
+pub const MAX_PRODUCT_STATES: u64 = 1 << 25;
+
+impl std::fmt::Display for ProductFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ProductFailure::StartBlocked => f.write_str("the start cell is not traversable"),
+            ProductFailure::StartRejected => {
+                f.write_str("the start cell already violates the formula")
+            }
+            ProductFailure::NoAcceptingRoute { expansions } => {
+                write!(f, "no accepting route (after {expansions} expansions)")
+            }
+            ProductFailure::Budget { expansions } => {
+                write!(f, "the search stopped after {expansions} expansions")
+            }
+            ProductFailure::Invalid(m) => f.write_str(m),
+            ProductFailure::TooLarge { cells, states } => write!(
+                f,
+                "the product of the grid ({cells} cells) and the automaton ({states} states) has \
+                 more than the planner's limit of {MAX_PRODUCT_STATES} search states"
+            ),
+        }
+    }
 }
 
 /// The cheapest accepting route of `p`.
@@ -82,10 +113,11 @@ pub fn search(p: &ProductProblem) -> Result<ProductRoute, ProductFailure> {
     }
     let l = Layout::new(n);
     let len = l.len();
-    if (len as u128) * (nq as u128) >= u32::MAX as u128 {
-        return Err(ProductFailure::Invalid(format!(
-            "the product of a {n}x{n} grid and {nq} automaton states is too large"
-        )));
+    if (len as u128) * (nq as u128) > MAX_PRODUCT_STATES as u128 {
+        return Err(ProductFailure::TooLarge {
+            cells: len,
+            states: nq,
+        });
     }
     if !l.contains(p.start) || !p.traversable[p.start.row as usize * n + p.start.col as usize] {
         return Err(ProductFailure::StartBlocked);

@@ -3,7 +3,8 @@
 //! visits, its avoid regions as global `G !a` or stage-scoped until-formulas — turned into a
 //! minimal automaton and planned with [`crate::product::search`]. Soft terms and path-shape
 //! waypoint stages are dropped (the formula cannot say them). Atoms are named after the origins
-//! (`t1` destination of stage 1, `p1_2` second pass of stage 1, `c3` constraint 3).
+//! (`t1` destination of stage 1, `p1_2` second pass of stage 1, `c3` constraint 3); visits of the
+//! same cells share the atom of the first.
 //!
 //! Also [`plan_places`], for formulas written by hand over arbitrary place masks (the `ltl` route
 //! form).
@@ -15,6 +16,7 @@ use crate::product::{ProductFailure, ProductProblem, ProductRoute, search};
 use crate::route::{PlanStatus, PlannedRoute, PlannedSegment, PlannedStage, path_length_m};
 use m2rc_compiler::ltl::{Dfa, Formula, Skeleton, Visit};
 use m2rc_stdlib::grid::Cell;
+use std::collections::HashMap;
 
 /// Planner name in routes and reports.
 pub const NAME: &str = "ltl";
@@ -46,8 +48,16 @@ pub fn problem_ltl(p: &PlanProblem) -> ProblemLtl {
     let mut keys: Vec<(bool, Origin)> = Vec::new();
     let mut names = Vec::new();
     let mut masks: Vec<Vec<bool>> = Vec::new();
+    // Visits of the same cells share one atom (the first origin names it): stages that return to
+    // a place (`go bathroom`, `go kitchen`, `go bathroom`, ...) then add automaton states, not
+    // atoms, and the guards stay over the few places there are instead of doubling per stage.
+    let mut visit_atoms: HashMap<Vec<bool>, usize> = HashMap::new();
     let mut atom = |avoid: bool, o: Origin, mask: &dyn Fn() -> Vec<bool>| -> usize {
         if let Some(i) = keys.iter().position(|k| *k == (avoid, o)) {
+            return i;
+        }
+        let m = mask();
+        if !avoid && let Some(&i) = visit_atoms.get(&m) {
             return i;
         }
         keys.push((avoid, o));
@@ -56,7 +66,10 @@ pub fn problem_ltl(p: &PlanProblem) -> ProblemLtl {
             name.push('_');
         }
         names.push(name);
-        masks.push(mask());
+        if !avoid {
+            visit_atoms.insert(m.clone(), keys.len() - 1);
+        }
+        masks.push(m);
         keys.len() - 1
     };
     let mut sk = Skeleton::default();
@@ -126,7 +139,12 @@ pub fn plan_ltl(p: &PlanProblem) -> PlannedRoute {
         Ok(d) => d,
         Err(e) => {
             return fail(PlanFailure::InvalidProblem {
-                message: format!("LTL automaton: {e}"),
+                message: format!(
+                    "the route's LTL formula ({} visits over {} places and avoided areas) has no \
+                     automaton within the LTL planner's limits: {e}",
+                    lt.skeleton.visits.len(),
+                    lt.names.len()
+                ),
             });
         }
     };
@@ -155,6 +173,9 @@ fn explain(p: &PlanProblem, e: ProductFailure, budget: u64) -> PlanFailure {
     match e {
         ProductFailure::StartBlocked => PlanFailure::StartBlocked { start: p.start },
         ProductFailure::Invalid(message) => PlanFailure::InvalidProblem { message },
+        e @ ProductFailure::TooLarge { .. } => PlanFailure::InvalidProblem {
+            message: e.to_string(),
+        },
         ProductFailure::Budget { .. } => PlanFailure::BudgetExceeded {
             segment: 0,
             stage: 0,

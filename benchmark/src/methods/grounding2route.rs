@@ -12,6 +12,7 @@
 //! scored on the start cell alone (the reference's `GROUNDING_FAILED` record).
 
 use super::{Method, MethodError, Prediction, PreparedMap, start_cell};
+use crate::budget::{EpisodeBudget, Meter};
 use crate::episode::Episode;
 use crate::pipeline::{CompiledRoute, PipelineOptions, compile_and_plan_with};
 use m2rc_compiler::lower::{
@@ -46,6 +47,11 @@ pub struct Grounding2RouteConfig {
     /// sequential, so earlier runs keep their fingerprint.
     #[serde(default = "sequential", skip_serializing_if = "is_sequential")]
     pub planner: PlannerKind,
+    /// Each episode's budget of compiling and planning (`crate::budget`); left out of the
+    /// configuration at its defaults, so earlier runs keep their fingerprint. Its wall-time part
+    /// is never in it (not reproducible).
+    #[serde(default, skip_serializing_if = "EpisodeBudget::is_default")]
+    pub budget: EpisodeBudget,
 }
 
 fn sequential() -> PlannerKind {
@@ -88,6 +94,7 @@ impl Default for Grounding2RouteConfig {
                 examples: 5,
             },
             planner: PlannerKind::Sequential,
+            budget: EpisodeBudget::default(),
         }
     }
 }
@@ -166,9 +173,11 @@ impl Method for Grounding2Route {
             store: &self.store,
             fetch,
         };
+        let meter = std::sync::Arc::new(Meter::new(self.config.budget.clone()));
         let pipeline = PipelineOptions {
             start: Some(start),
             planner: self.config.planner,
+            meter: Some(meter.clone()),
             ..PipelineOptions::default()
         };
         let (prompt, trace) = lower_and_plan(
@@ -204,6 +213,10 @@ impl Method for Grounding2Route {
         if self.config.is_simulated() {
             info["simulated_faults"] = json!(faults);
         }
+        // Only when some are: records of well-behaved servers keep their bytes.
+        if trace.unknown_usage() > 0 {
+            info["usage_unknown_attempts"] = json!(trace.unknown_usage());
+        }
         if success_round.is_some_and(|r| r > 0) {
             let start_only = [[start.row as i64, start.col as i64]];
             let scored = crate::report::score::score(&start_only, episode, &map.eval);
@@ -212,13 +225,21 @@ impl Method for Grounding2Route {
                 "metrics_summary": scored.summary,
             });
         }
+        // An episode stopped by its budget says so, whatever round it was in.
+        let over = meter.exceeded().filter(|_| success_round.is_none());
+        if let Some(reason) = &over {
+            info["budget_exceeded"] = json!(reason);
+        }
         let mut extra = serde_json::Map::new();
         extra.insert("grounding2route".into(), info);
-        let status = trace.outcome.status();
+        let status = match &over {
+            Some(_) => "budget_exceeded",
+            None => trace.outcome.status(),
+        };
         Ok(Prediction {
             trajectory: trace.output.map(|c| c.route.trajectory).unwrap_or_default(),
             program: trace.final_program,
-            notes: vec![],
+            notes: over.into_iter().collect(),
             status: (status != "ok").then(|| status.to_string()),
             extra,
         })
@@ -253,6 +274,7 @@ impl Grounding2Route {
             repair: lower.repair_options(),
             prompt: lower.prompt_options(),
             planner: PlannerKind::Sequential,
+            budget: EpisodeBudget::from_args(&lower.budget)?,
         };
         Ok((
             Grounding2Route {

@@ -2,6 +2,7 @@
 //! server answers garbage), resumed from the cache with identical records, through the batch
 //! round trip, and with the simulated model; and no file a run writes holds the API key.
 
+use m2rc_benchmark::budget::EpisodeBudget;
 use m2rc_benchmark::methods::grounding2route::{Grounding2Route, Grounding2RouteConfig};
 use m2rc_benchmark::methods::{Method, method_by_name};
 use m2rc_benchmark::report::{self, load_runs};
@@ -257,7 +258,7 @@ fn mock_server_cache_resume_batch_and_simulated() {
     let mut lines = String::new();
     for l in std::fs::read_to_string(&batch).unwrap().lines() {
         let req: Value = serde_json::from_str(l).unwrap();
-        assert!(req["custom_id"].as_str().unwrap().ends_with("/round0"));
+        assert!(req["custom_id"].as_str().unwrap().contains("/round0#"));
         let program = &golds[&instruction_of(&req["body"])];
         lines.push_str(&json!({"custom_id": req["custom_id"], "response": {"status_code": 200, "body": completion(program)}}).to_string());
         lines.push('\n');
@@ -319,7 +320,47 @@ fn mock_server_cache_resume_batch_and_simulated() {
         assert!(md.contains(&format!("[SIMULATED model] | {r} |")), "{md}");
     }
 
-    // 5. No file any run wrote holds the API key.
+    // 5. An episode over its budget is recorded with the reason, and the run goes on: with a
+    //    work budget of 10 expansions no plan can finish, and every episode says why.
+    let tight = tmp.path().join("tight");
+    let m = Grounding2Route {
+        config: Grounding2RouteConfig {
+            backend: Backend::Simulated(SimulatedSpec {
+                fault_rate: 0.0,
+                seed: 0,
+            }),
+            model: "simulated:0:0".into(),
+            budget: EpisodeBudget {
+                max_expansions: 10,
+                ..EpisodeBudget::default()
+            },
+            ..Grounding2RouteConfig::default()
+        },
+        store: cached(&tight, false),
+        http: None,
+    };
+    assert_eq!(m.config()["budget"]["max_expansions"], 10);
+    let s = runner::run(&m, &opts(&suite, &tight)).unwrap();
+    assert_eq!((s.written, s.method_failures), (n, n));
+    for (id, r) in by_id(&tight) {
+        assert_eq!(r["status"], "budget_exceeded", "{id}");
+        let why = r["notes"][0].as_str().unwrap();
+        assert!(
+            why.contains("work budget of 10 planner expansions"),
+            "{id}: {why}"
+        );
+        assert_eq!(r["grounding2route"]["budget_exceeded"], why);
+    }
+    // At its defaults the budget is not part of the configuration (fingerprints unchanged).
+    assert!(Grounding2RouteConfig::default().budget.is_default());
+    assert!(
+        serde_json::to_value(Grounding2RouteConfig::default())
+            .unwrap()
+            .get("budget")
+            .is_none()
+    );
+
+    // 6. No file any run wrote holds the API key.
     for (name, bytes) in snapshot(tmp.path()) {
         assert!(
             !String::from_utf8_lossy(&bytes).contains(KEY),

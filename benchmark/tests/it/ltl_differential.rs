@@ -118,3 +118,40 @@ fn ltl_planner_matches_the_global_planner_on_destinations_and_avoids() {
     assert!(compared >= 5, "only {compared} episodes were comparable");
     assert!(with_avoids >= 1, "no compared episode had an avoid region");
 }
+
+/// Stages that return to the same place share its atom: twenty alternating `go bathroom` /
+/// `go kitchen` stages are a formula over two atoms whose automaton is a chain, not one atom per
+/// stage (whose guards double with every stage the route has passed).
+#[test]
+fn alternating_stages_share_two_atoms() {
+    use m2rc_compiler::ltl::Dfa;
+    use m2rc_planner::context::MapContext;
+    use m2rc_planner::lower::lower_with;
+    use m2rc_planner::product_lower::problem_ltl;
+    let map = m2rc_stdlib::demo::demo_map().unwrap();
+    let mut src = String::from(
+        "let bathroom = rooms(bathroom).smallest()\nlet kitchen = rooms(kitchen).only()\nroute {\n",
+    );
+    for i in 0..20 {
+        src.push_str(if i % 2 == 0 {
+            "  go bathroom\n"
+        } else {
+            "  go kitchen\n"
+        });
+    }
+    src.push_str("}\n");
+    let compiled =
+        m2rc_benchmark::pipeline::compile_and_plan(&src, &map, &PipelineOptions::default())
+            .unwrap();
+    let ctx = MapContext::new(&map).unwrap();
+    let problem = lower_with(&compiled.ir, &map, &ctx, CostProfile::shortest()).unwrap();
+    let lt = problem_ltl(&problem);
+    assert_eq!(lt.names, vec!["t1", "t2"]);
+    assert_eq!(lt.skeleton.visits.len(), 20);
+    let dfa = Dfa::build(&lt.formula, &lt.names, true).unwrap();
+    // Waiting for each of the 20 visits, done.
+    assert_eq!(dfa.states(), 21);
+    let planned = m2rc_planner::plan(&problem, PlannerKind::Ltl);
+    assert!(planned.is_success(), "{:?}", planned.failure);
+    assert_eq!(planned.segments.len(), 20);
+}

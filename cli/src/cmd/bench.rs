@@ -137,6 +137,7 @@ pub(crate) fn show_progress() -> bool {
 }
 
 fn run_method(a: RunArgs) -> Result<ExitCode> {
+    crate::outputs::refuse_run_into_suite(&a.out, &a.suite)?;
     let mut model_method = None;
     let method: Box<dyn m2rc_benchmark::methods::Method> = if a.method == "grounding2route" {
         let (m, note) = Grounding2Route::from_args(&a.llm, &a.lower, &a.out.join("llm-cache"))
@@ -193,6 +194,9 @@ fn run_method(a: RunArgs) -> Result<ExitCode> {
                 "wrote {n} batch request(s) to {}; answer them, then run again with --llm-batch-in <output file>",
                 b.path().display()
             );
+        }
+        for w in m.store.warnings() {
+            eprintln!("warning: {w}");
         }
         let s = m.store.stats();
         eprintln!(
@@ -265,6 +269,7 @@ pub(crate) fn rayon_pool(threads: usize) -> Result<rayon::ThreadPool> {
 }
 
 fn merge(a: MergeArgs) -> Result<ExitCode> {
+    crate::outputs::refuse_output_among_inputs(&a.out, &a.shards, "shard")?;
     let s = runner::merge(&a.shards, &a.out)?;
     crate::io::stdout(&format!(
         "merged {} shards: {} records ({} duplicates identical) into {}\n",

@@ -45,10 +45,11 @@ pub struct CompileArgs {
     /// Draw the route over the map into this PNG.
     #[arg(long)]
     pub png: Option<PathBuf>,
-    /// Route planner: sequential (stage by stage), global (all stages at once) or shortest
-    /// (ignore preferences).
-    #[arg(long, value_enum, default_value_t = Planner::Sequential)]
-    pub planner: Planner,
+    /// Route planner: sequential (stage by stage, the default), global (all stages at once) or
+    /// shortest (ignore preferences). An LTL route (`route ltl "..."`) is always planned by the
+    /// LTL planner.
+    #[arg(long, value_enum)]
+    pub planner: Option<Planner>,
     /// Start cell `row,col` (default: the episode's start, else the map's start).
     #[arg(long, value_parser = parse_cell)]
     pub start: Option<Cell>,
@@ -131,6 +132,24 @@ fn resolve_map(arg: &str, program: &Path) -> String {
     arg.to_string()
 }
 
+/// What to do when the map a program's `// map:` line names cannot be loaded: a suite key
+/// (`procthor/<map_id>`) is found only from inside its suite, so a program copied out of it needs
+/// `--map`.
+fn header_map_help(line: &str, file_name: &str) -> String {
+    let is_key = line.contains('/') && !line.ends_with(".json") && !line.starts_with(['.', '/']);
+    match line.rsplit('/').next() {
+        Some(id) if is_key && !id.is_empty() => format!(
+            "`// map: {line}` in {file_name} names a map of a benchmark suite, which is found only \
+             when the program lies inside that suite (`<suite>/programs/...`); pass the map \
+             file: `--map <suite>/maps/{id}/{id}.json`"
+        ),
+        _ => format!(
+            "the map comes from the `// map: {line}` line of {file_name}; pass `--map \
+             <map.json|house.json|demo>` to use another"
+        ),
+    }
+}
+
 pub fn run(args: CompileArgs) -> Result<ExitCode> {
     let source = read_to_string(&args.file)?;
     let file_name = display_name(&args.file);
@@ -158,10 +177,14 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         let key = ep.map_id.as_deref()?;
         crate::suite_layout::map_for_key(path, key).map(|p| p.to_string_lossy().into_owned())
     };
+    let mut from_header = None;
     let map_arg = match args.map.clone().or_else(episode_map) {
         Some(m) => m,
         None => match map_line(&source) {
-            Some(m) => resolve_map(m, &args.file),
+            Some(m) => {
+                from_header = Some(m.to_string());
+                resolve_map(m, &args.file)
+            }
             None => {
                 return Err(unusable(anyhow::anyhow!(
                     "no map: pass `--map <map.json|demo>` or start {file_name} with `// map: <path|demo>`"
@@ -169,7 +192,13 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             }
         },
     };
-    let (map, kind) = crate::io::load_map_kind(&map_arg)?;
+    let (map, kind) = crate::io::load_map_kind(&map_arg).map_err(|e| match &from_header {
+        Some(line) => unusable(anyhow::anyhow!(
+            "{e:#}\nhelp: {}",
+            header_map_help(line, &file_name)
+        )),
+        None => e,
+    })?;
     let mut start = args.start;
     if let Some((name, _, ep)) = &episode {
         m2rc_benchmark::episode_check::check_episode(ep, Some(map.n()), name).map_err(unusable)?;
@@ -197,7 +226,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         }
     }
     let opts = PipelineOptions {
-        planner: match args.planner {
+        planner: match args.planner.unwrap_or(Planner::Sequential) {
             Planner::Sequential => PlannerKind::Sequential,
             Planner::Global => PlannerKind::Global,
             Planner::Shortest => PlannerKind::Shortest,
@@ -213,6 +242,16 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             return Ok(ExitCode::FAILURE);
         }
     };
+    if let Some(p) = args
+        .planner
+        .filter(|p| *p != Planner::Ltl && compiled.ltl.is_some())
+    {
+        eprintln!(
+            "note: an LTL route is always planned by the LTL planner; `--planner {}` does not apply to it",
+            p.to_possible_value()
+                .map_or_else(String::new, |v| v.get_name().to_string())
+        );
+    }
     // Build every output before writing any.
     let ir_json = compiled.ir.to_json();
     let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;

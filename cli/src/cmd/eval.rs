@@ -118,7 +118,13 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
         check_same_map(&episode, &ep_name, map_id.as_deref(), &args.map)?;
     }
     let route_name = display_name(&args.route);
-    let route = parse_route_text(&read_to_string(&args.route)?, map.n(), &route_name)?;
+    let route_text = crate::io::read_to_string_capped(
+        &args.route,
+        m2rc_benchmark::route_read::MAX_ROUTE_FILE_BYTES,
+        "a route file",
+    )
+    .map_err(unusable)?;
+    let route = parse_route_text(&route_text, map.n(), &route_name)?;
     let opts = EvalOptions {
         dedup_region_waypoints: args.dedup_region_waypoints,
     };

@@ -2,8 +2,10 @@
 //! `m2rc_compiler::lsp`; this shell opens the transport (`crate::lsp_stdio`, which bounds message
 //! sizes and answers malformed JSON-RPC) and picks the vocabulary.
 //!
-//! Exit status: 0 after `shutdown` then `exit` (or when the client closes the stream), 1 after an
-//! `exit` without `shutdown`, as the protocol says, or a protocol error.
+//! Exit status: 0 after `shutdown` then `exit` (or when the client closes the stream between
+//! messages), 1 after an `exit` without `shutdown`, as the protocol says, or a protocol error; 2
+//! when the stream cannot be framed (a malformed header, a message cut off), said on standard
+//! error.
 
 use anyhow::{Context, Result};
 use clap::Args;
@@ -34,7 +36,13 @@ pub fn run(args: LspArgs) -> Result<ExitCode> {
     let (connection, transport) = crate::lsp_stdio::stdio();
     let result = m2rc_compiler::lsp::serve(&connection, &vocab);
     drop(connection);
+    let broken = transport.broken();
     transport.join();
+    if let Some(why) = broken {
+        return Err(crate::io::unusable(anyhow::anyhow!(
+            "language server: malformed message from the client: {why}; stopped reading"
+        )));
+    }
     match result {
         Ok(()) => Ok(ExitCode::SUCCESS),
         Err(LspError::ExitWithoutShutdown) => Ok(ExitCode::from(1)),

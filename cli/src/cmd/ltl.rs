@@ -1,10 +1,14 @@
 //! `m2rc ltl <formula>`: an LTLf formula to its minimal automaton, without a program or a map
 //! (for checking the backend against other tools; `scripts/ltl-crosscheck.sh` uses it).
 
+use crate::io::unusable;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use m2rc_compiler::diagnostic::render_text;
-use m2rc_compiler::ltl::{AtomKind, Dfa, check_formula, export};
+use m2rc_compiler::ltl::budget::Budget;
+use m2rc_compiler::ltl::dfa::build_with;
+use m2rc_compiler::ltl::syntax::Kind;
+use m2rc_compiler::ltl::{AtomKind, Dfa, check_formula, export, parse};
 use std::process::ExitCode;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -24,7 +28,8 @@ pub struct LtlArgs {
     /// Output format: the automaton as JSON (`dfa`), HOA, Graphviz DOT, or the formula (`ltl`).
     #[arg(long, value_enum, default_value_t = LtlEmit::Dfa)]
     pub emit: LtlEmit,
-    /// Atom order (comma-separated); default: first occurrence in the formula.
+    /// Atom order (comma-separated, each an atom name of the formula syntax, each once); default:
+    /// first occurrence in the formula.
     #[arg(long, value_delimiter = ',')]
     pub atoms: Vec<String>,
     /// Keep the automaton as progression builds it (for comparing with the minimised one).
@@ -35,7 +40,33 @@ pub struct LtlArgs {
     pub bench: Option<u32>,
 }
 
+/// Refuses an `--atoms` list the outputs could not name unambiguously: a name listed twice would
+/// be two HOA `AP`s and two JSON atoms with one name, and a name that is not an atom of the
+/// syntax (empty, an operator, `a-b`) would print guards that do not parse back.
+fn check_atom_list(atoms: &[String]) -> Result<()> {
+    for (k, a) in atoms.iter().enumerate() {
+        if a.is_empty() {
+            return Err(unusable(anyhow::anyhow!(
+                "--atoms: name {} of the list is empty",
+                k + 1
+            )));
+        }
+        if !matches!(parse(a).map(|f| f.kind), Ok(Kind::Atom(n)) if n == *a) {
+            return Err(unusable(anyhow::anyhow!(
+                "--atoms: `{a}` is not an atom name: atoms are identifiers (ASCII letters, digits \
+                 and `_`, not starting with a digit) other than the operators and constants of \
+                 the syntax"
+            )));
+        }
+        if atoms[..k].contains(a) {
+            return Err(unusable(anyhow::anyhow!("--atoms lists `{a}` twice")));
+        }
+    }
+    Ok(())
+}
+
 pub fn run(a: LtlArgs) -> Result<ExitCode> {
+    check_atom_list(&a.atoms)?;
     let checked = match check_formula(&a.formula, 0, &|_| AtomKind::Place, &[]) {
         Ok(c) => c,
         // An unsatisfiable formula still has an automaton (it accepts nothing); print it.
@@ -55,7 +86,9 @@ pub fn run(a: LtlArgs) -> Result<ExitCode> {
     let mut atoms = checked.atoms.clone();
     if !a.atoms.is_empty() {
         if let Some(missing) = atoms.iter().find(|x| !a.atoms.contains(x)) {
-            anyhow::bail!("--atoms does not list `{missing}`, an atom of the formula");
+            return Err(unusable(anyhow::anyhow!(
+                "--atoms does not list `{missing}`, an atom of the formula"
+            )));
         }
         atoms = a.atoms.clone();
     }
@@ -63,15 +96,19 @@ pub fn run(a: LtlArgs) -> Result<ExitCode> {
         .map_err(|e| anyhow::anyhow!(e.to_string()))?;
     if let Some(k) = a.bench.filter(|k| *k > 0) {
         let t = std::time::Instant::now();
+        let mut steps = 0;
         for _ in 0..k {
-            let d = Dfa::build(&checked.formula, &atoms, !a.no_minimise)
+            let mut budget = Budget::default();
+            let d = build_with(&checked.formula, &atoms, !a.no_minimise, &mut budget)
                 .map_err(|e| anyhow::anyhow!(e.to_string()))?;
+            steps = budget.used();
             std::hint::black_box(d);
         }
         eprintln!(
-            "{} atoms, {} states: {:.3} ms per construction (mean of {k})",
+            "{} atoms, {} states, {steps} construction steps of {}: {:.3} ms per construction (mean of {k})",
             atoms.len(),
             dfa.states(),
+            m2rc_compiler::ltl::budget::MAX_WORK,
             t.elapsed().as_secs_f64() * 1e3 / k as f64
         );
     }

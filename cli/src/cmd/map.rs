@@ -37,6 +37,13 @@ pub struct SourceArgs {
     /// A ProcTHOR house (.json, or .jsonl/.jsonl.gz with --index), a Map2Route map, `demo`, or
     /// `-` (standard input).
     pub map: String,
+    #[command(flatten)]
+    pub grid: GridArgs,
+}
+
+/// How a house is turned into a grid (shared by `map import | info | render` and `map check`).
+#[derive(Args)]
+pub struct GridArgs {
     /// Which house of a .jsonl(.gz) file, 0-based.
     #[arg(long)]
     pub index: Option<usize>,
@@ -62,7 +69,7 @@ pub struct SourceArgs {
 pub struct ImportArgs {
     #[command(flatten)]
     pub source: SourceArgs,
-    /// Output Map2Route map JSON.
+    /// Output Map2Route map JSON; `-` writes standard output.
     #[arg(short, long)]
     pub output: PathBuf,
 }
@@ -102,18 +109,11 @@ pub fn run(command: MapCommand) -> Result<ExitCode> {
         MapCommand::Import(a) => import(a),
         MapCommand::Info(a) => info(a),
         MapCommand::Render(a) => render(a),
-        MapCommand::Check(a) => {
-            let db = crate::io::asset_db_for(&a.source.map, a.source.assets.as_deref())?;
-            if db.is_none() && a.maps.is_none() {
-                eprintln!("warning: {}", crate::io::NO_ASSETS_WARNING);
-            }
-            let opts = load_options(&a.source, db.as_ref());
-            super::map_check::check(a, &opts)
-        }
+        MapCommand::Check(a) => super::map_check::run(a),
     }
 }
 
-fn load_options<'a>(src: &SourceArgs, db: Option<&'a AssetDb>) -> LoadOptions<'a> {
+pub(crate) fn load_options<'a>(src: &GridArgs, db: Option<&'a AssetDb>) -> LoadOptions<'a> {
     LoadOptions {
         index: src.index,
         assets: db,
@@ -128,8 +128,8 @@ fn load_options<'a>(src: &SourceArgs, db: Option<&'a AssetDb>) -> LoadOptions<'a
 }
 
 fn load(src: &SourceArgs) -> Result<(MapDocument, SourceKind)> {
-    let db = crate::io::asset_db_for(&src.map, src.assets.as_deref())?;
-    let mut opts = load_options(src, db.as_ref());
+    let db = crate::io::asset_db_for(&src.map, src.grid.assets.as_deref())?;
+    let mut opts = load_options(&src.grid, db.as_ref());
     let staged = crate::io::MapArg::new(&src.map)?;
     if staged.is_stdin() && opts.import.map_id.is_none() {
         opts.import.map_id = Some("stdin".into());
@@ -146,10 +146,18 @@ fn load(src: &SourceArgs) -> Result<(MapDocument, SourceKind)> {
 
 fn import(args: ImportArgs) -> Result<ExitCode> {
     let (doc, kind) = load(&args.source)?;
-    write_streamed(&args.output, &doc)?;
+    if crate::io::is_dash(&args.output) {
+        write_stdout(&doc)?;
+    } else {
+        write_streamed(&args.output, &doc)?;
+    }
     eprintln!(
         "wrote {} ({} x {} cells, {} rooms, {} objects, from {})",
-        args.output.display(),
+        if crate::io::is_dash(&args.output) {
+            "the map to standard output".to_string()
+        } else {
+            args.output.display().to_string()
+        },
         doc.map.n(),
         doc.map.n(),
         doc.map.rooms.len(),
@@ -157,6 +165,25 @@ fn import(args: ImportArgs) -> Result<ExitCode> {
         kind_name(kind)
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// Writes the map JSON to standard output, streamed like [`write_streamed`]; a closed pipe ends
+/// the command quietly, as everywhere.
+fn write_stdout(doc: &MapDocument) -> Result<()> {
+    use std::io::Write;
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    write_map_document_to(doc, &mut out)
+        .and_then(|()| out.flush())
+        .map_err(|e| {
+            // The serializer wraps the pipe's error; its kind is what says "closed pipe".
+            let kind = e
+                .get_ref()
+                .and_then(|i| i.downcast_ref::<serde_json::Error>())
+                .and_then(serde_json::Error::io_error_kind)
+                .unwrap_or(e.kind());
+            std::io::Error::new(kind, e.to_string())
+        })
+        .context("cannot write standard output")
 }
 
 /// Writes the map JSON straight into a temporary file beside `path`, then renames it into place:

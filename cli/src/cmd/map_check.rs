@@ -2,10 +2,12 @@
 //! map against its house: door and window holes where ProcTHOR cuts them, every room the house
 //! connects reachable from the start, no way between rooms the house keeps apart.
 
-use super::map::SourceArgs;
-use anyhow::{Context, Result, bail};
+use super::map::GridArgs;
+use crate::io::unusable;
+use anyhow::{Context, Result};
 use clap::Args;
 use m2rc_stdlib::import::check::{ImportCheck, check_house};
+use m2rc_stdlib::import::house::looks_like_house;
 use m2rc_stdlib::load::{LoadOptions, count_documents, load_map_with, read_document};
 use m2rc_stdlib::map::read_map_document_json;
 use std::path::PathBuf;
@@ -13,8 +15,13 @@ use std::process::ExitCode;
 
 #[derive(Args)]
 pub struct CheckArgs {
+    /// The ProcTHOR houses: a house .json, a .jsonl/.jsonl.gz of houses (every one, or one with
+    /// --index or `file#i`), or `-` (one house JSON on standard input). Not a Map2Route map or
+    /// `demo`: the check compares a map with the house it was made from.
+    #[arg(value_name = "HOUSES")]
+    pub house: String,
     #[command(flatten)]
-    pub source: SourceArgs,
+    pub grid: GridArgs,
     /// Check these maps instead of importing: a map JSON (one house), or a directory holding
     /// `<stem>_<index:03>.json` per house of a .jsonl(.gz) (as `m2rc map import` names them).
     #[arg(long)]
@@ -24,6 +31,23 @@ pub struct CheckArgs {
     pub quiet: bool,
 }
 
+/// Refuses what is not a house file before anything is imported, then checks.
+pub fn run(a: CheckArgs) -> Result<ExitCode> {
+    if a.house == "demo" {
+        return Err(unusable(anyhow::anyhow!(
+            "`demo` is the built-in demo map, not a ProcTHOR house: `map check` compares a map \
+             with the house it was made from; pass a house file (.json, or .jsonl/.jsonl.gz of \
+             houses)"
+        )));
+    }
+    let staged = crate::io::MapArg::new(&a.house)?;
+    let db = crate::io::asset_db_for(&a.house, a.grid.assets.as_deref())?;
+    if db.is_none() && a.maps.is_none() {
+        eprintln!("warning: {}", crate::io::NO_ASSETS_WARNING);
+    }
+    let opts = super::map::load_options(&a.grid, db.as_ref());
+    check(&a, &staged.arg, &opts)
+}
 #[derive(Default)]
 struct Totals {
     houses: usize,
@@ -63,13 +87,12 @@ fn stem(path: &str) -> String {
     s.to_string()
 }
 
-pub fn check(args: CheckArgs, opts: &LoadOptions<'_>) -> Result<ExitCode> {
-    let src = &args.source.map;
+fn check(args: &CheckArgs, src: &str, opts: &LoadOptions<'_>) -> Result<ExitCode> {
     let (path, fixed) = match src.rsplit_once('#') {
         Some((p, i)) if i.parse::<usize>().is_ok() && !std::path::Path::new(src).exists() => {
             (p.to_string(), i.parse::<usize>().ok())
         }
-        _ => (src.clone(), args.source.index),
+        _ => (src.to_string(), args.grid.index),
     };
     let indices: Vec<Option<usize>> = match fixed {
         Some(i) => vec![Some(i)],
@@ -85,9 +108,16 @@ pub fn check(args: CheckArgs, opts: &LoadOptions<'_>) -> Result<ExitCode> {
     };
     let mut totals = Totals::default();
     for index in indices {
-        let (house, label, _) = read_document(&path, index)?;
-        if house.get("rooms").is_none() {
-            bail!("{label}: not a ProcTHOR house (no `rooms`); map check needs the house");
+        let (house, mut label, _) = read_document(&path, index)?;
+        if crate::io::is_dash(std::path::Path::new(&args.house)) {
+            label = "<stdin>".into();
+        }
+        if !looks_like_house(&house) {
+            return Err(unusable(anyhow::anyhow!(
+                "{label}: not a ProcTHOR house (a Map2Route map, or no `rooms`): `map check` \
+                 compares a map with the house it was made from; pass the house, and the map with \
+                 --maps"
+            )));
         }
         let map = match (&args.maps, index) {
             (None, _) => {

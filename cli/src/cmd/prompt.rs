@@ -2,9 +2,10 @@
 //! with `--repair-of prog.m2r`, the repair request for that program (after the local fixes the
 //! repair loop would apply), so people can see what the model sees.
 
-use crate::io::read_to_string;
-use anyhow::{Context, Result};
+use crate::io::{read_to_string_capped, unusable};
+use anyhow::{Context, Result, anyhow};
 use clap::{Args, ValueEnum};
+use m2rc_benchmark::limits::{MAX_PROGRAM_BYTES, check_program_size};
 use m2rc_benchmark::pipeline::{PipelineOptions, compile_and_plan};
 use m2rc_compiler::lower::prompt::{Feedback, repair_messages};
 use m2rc_compiler::lower::repair::unambiguous_fixes;
@@ -39,7 +40,26 @@ pub enum PromptFormat {
 /// The reference's prompt template alone, in bytes (grounding2route-method.md §6).
 pub const REFERENCE_TEMPLATE_BYTES: usize = 10_800;
 
+/// Refuses an instruction with nothing in it: the prompt around it would be sent in full and the
+/// model asked to route nothing.
+pub fn check_instruction(instruction: &str) -> Result<()> {
+    if instruction.trim().is_empty() {
+        return Err(unusable(anyhow!(
+            "the instruction is empty: give the route in words, e.g. \"Go to the bed in the smallest bedroom\""
+        )));
+    }
+    Ok(())
+}
+
 pub fn run(args: PromptArgs) -> Result<ExitCode> {
+    check_instruction(&args.instruction)?;
+    if let (Some(path), 0) = (&args.repair_of, args.lower.repair_rounds) {
+        return Err(unusable(anyhow!(
+            "--repair-of {}: with --repair-rounds 0 the repair loop never sends a repair request; \
+             drop --repair-rounds 0 to see the one it would send",
+            path.display()
+        )));
+    }
     let map = m2rc_stdlib::load::load_map(&args.map)
         .with_context(|| format!("cannot load map `{}`", args.map))?;
     let opts = args.lower.prompt_options();
@@ -48,7 +68,9 @@ pub fn run(args: PromptArgs) -> Result<ExitCode> {
     let messages: Vec<Message> = match &args.repair_of {
         None => first.messages.clone(),
         Some(path) => {
-            let source = read_to_string(path)?;
+            let source = read_to_string_capped(path, MAX_PROGRAM_BYTES, "a program")?;
+            let name = crate::io::display_name(path);
+            check_program_size(&source).map_err(|m| anyhow!("{name}: {m}"))?;
             let pipeline = PipelineOptions::default();
             let mut program = source.clone();
             let mut diags = match compile_and_plan(&program, &map, &pipeline) {

@@ -5,6 +5,7 @@
 //! route summary; writes outputs only when a route was found, each atomically.
 
 use crate::cmd::compile::{render_options, route_document, summary_text};
+use crate::io::unusable;
 use crate::io::write_atomic;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
@@ -14,10 +15,13 @@ use m2rc_compiler::lower::EpisodeOutcome;
 use m2rc_llm::{Backend, Exchange};
 use m2rc_planner::context::MapContext;
 use m2rc_stdlib::render::render_map;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// `--llm` is not offered here: the simulated model answers from an episode's gold program, and
+/// `m2rc run` has no episode (a `--llm simulated` typed anyway is refused, naming `bench run`).
 #[derive(Args)]
+#[command(mut_arg("backend", |a| a.hide(true)))]
 pub struct RunArgs {
     /// The route instruction, in natural language.
     pub instruction: String,
@@ -47,31 +51,40 @@ pub enum RunEmit {
 }
 
 pub fn run(args: RunArgs) -> Result<ExitCode> {
+    crate::cmd::prompt::check_instruction(&args.instruction)?;
     if let Backend::Simulated(_) = args.llm.backend {
-        bail!(
-            "--llm simulated answers from an episode's gold program, so it works only in `m2rc bench run`; point `m2rc run` at a server with --llm-base-url"
-        );
+        return Err(unusable(anyhow::anyhow!(
+            "--llm simulated answers from an episode's gold program, so `m2rc run` (which has no \
+             episode) does not take it; try it on a suite with `m2rc bench run --method \
+             grounding2route --llm simulated`, or point `m2rc run` at a server with --llm-base-url"
+        )));
     }
     let map = m2rc_stdlib::load::load_map(&args.map)
         .with_context(|| format!("cannot load map `{}`", args.map))?;
     let ctx =
         MapContext::new(&map).map_err(|e| anyhow::anyhow!("the map cannot be planned on: {e}"))?;
-    let client = args
-        .llm
-        .http_client()
-        .map_err(anyhow::Error::msg)?
-        .context("no HTTP client")?;
-    let (store, note) = args
-        .llm
-        .store(Path::new(".m2rc/llm-cache"))
-        .map_err(anyhow::Error::msg)?;
+    let client = match args.llm.http_client() {
+        Ok(Some(c)) => c,
+        Ok(None) => bail!("no HTTP client"),
+        Err(e) => {
+            return Err(unusable(anyhow::anyhow!("{e}\n{}", without_server(&args))));
+        }
+    };
+    let default_cache = m2rc_llm::config::default_run_cache();
+    let (store, note) = args.llm.store(&default_cache).map_err(anyhow::Error::msg)?;
     if let Some(n) = note {
         eprintln!("{n}");
+    }
+    if let Some(c) = &store.cache {
+        eprintln!("replies cached in {}", c.dir().display());
     }
     let model = Exchange {
         store: &store,
         fetch: &client,
     };
+    let budget = m2rc_benchmark::budget::EpisodeBudget::from_args(&args.lower.budget)
+        .map_err(|e| crate::io::unusable(anyhow::Error::msg(e)))?;
+    let meter = std::sync::Arc::new(m2rc_benchmark::budget::Meter::new(budget));
     let key = format!("{}/run", map.map_id);
     let (prompt, trace) = lower_and_plan(
         &model,
@@ -81,17 +94,26 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         &key,
         &args.lower.prompt_options(),
         &args.lower.repair_options(),
-        &PipelineOptions::default(),
+        &PipelineOptions {
+            meter: Some(meter.clone()),
+            ..PipelineOptions::default()
+        },
     );
     eprintln!(
         "prompt: about {} tokens; model {}",
         prompt.estimated_tokens(),
         client.config().model
     );
+    let count = |n: Option<u64>| n.map_or("unknown".to_string(), |n| n.to_string());
     for a in &trace.attempts {
         eprintln!(
             "round {}: reply {} ({} prompt + {} completion tokens, {:.0} ms) -> {}",
-            a.round, a.reply, a.prompt_tokens, a.completion_tokens, a.latency_ms, a.outcome
+            a.round,
+            a.reply,
+            count(a.prompt_tokens),
+            count(a.completion_tokens),
+            a.latency_ms,
+            a.outcome
         );
         if let Some(p) = &a.program {
             for line in p.lines() {
@@ -111,6 +133,9 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
             eprintln!("    error: {e}");
         }
     }
+    for w in store.warnings() {
+        eprintln!("warning: {w}");
+    }
     if let Some(b) = &store.batch {
         let n = b.finish()?;
         eprintln!("wrote {n} batch request(s) to {}", b.path().display());
@@ -121,11 +146,19 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
             c
         }
         (outcome, _) => {
-            eprintln!(
-                "no route: {} after {} round(s)",
-                outcome.status(),
-                trace.attempts.len()
-            );
+            let status = match meter.exceeded() {
+                Some(why) => format!("budget_exceeded ({why})"),
+                None => outcome.status().to_string(),
+            };
+            eprintln!("no route: {status} after {} round(s)", trace.attempts.len());
+            match outcome {
+                EpisodeOutcome::ModelFailed { .. } => eprintln!("{}", without_server(&args)),
+                EpisodeOutcome::Pending { .. } => eprintln!(
+                    "answer the batch request, then run the same command with --llm-batch-in \
+                     <replies.jsonl> --llm-cache-only instead of --llm-batch-out"
+                ),
+                _ => {}
+            }
             return Ok(ExitCode::FAILURE);
         }
     };
@@ -159,4 +192,21 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// What a user without a reachable model server can do instead, with this command's own map and
+/// instruction filled in.
+fn without_server(args: &RunArgs) -> String {
+    let instruction = args.instruction.replace('\\', "\\\\").replace('"', "\\\"");
+    let map = &args.map;
+    format!(
+        "without a model server:\n  \
+         m2rc prompt --map {map} \"{instruction}\"   prints the exact messages the model would get\n  \
+         m2rc run \"{instruction}\" --map {map} --llm-batch-out requests.jsonl   writes the \
+         request for a batch API; answer it, then run again with --llm-batch-in <replies.jsonl> \
+         --llm-cache-only to plan from the reply\n  \
+         m2rc bench run --suite <suite> --method grounding2route --llm simulated --out <run>   \
+         tries the pipeline without a model (the gold program with injected faults)\n\
+         docs/llm.md lists servers that work (llama.cpp, vLLM, Ollama, hosted APIs)"
+    )
 }

@@ -47,6 +47,7 @@ fn every_printing_command_exits_quietly_on_a_closed_pipe() {
         vec!["check", "p.m2r", "--format", "json"],
         vec!["map", "info", "demo"],
         vec!["map", "info", "demo", "--format", "json"],
+        vec!["map", "import", "demo", "-o", "-"],
         vec!["suite", "stats", s],
         vec!["bench", "report", r],
         vec!["bench", "report", r, "--format", "json"],

@@ -150,3 +150,41 @@ fn exit_without_shutdown_exits_1_and_after_shutdown_0() {
     let (code, _, err) = session(&input);
     assert_eq!(code, Some(0), "{err}");
 }
+
+#[test]
+fn a_malformed_frame_is_said_on_stderr_and_exits_non_zero() {
+    // A header without Content-Length, and a body cut off by the end of the stream.
+    for tail in [
+        &b"Content-Type: x\r\n\r\n"[..],
+        &b"Content-Length: 50\r\n\r\n{\"jsonrpc\": \"2.0\""[..],
+    ] {
+        let mut input = init();
+        input.extend(tail);
+        let (code, msgs, err) = session(&input);
+        assert_eq!(code, Some(2), "{err}");
+        assert!(err.contains("malformed message"), "{err}");
+        assert!(
+            msgs.iter().any(|m| m["error"]["code"] == -32700),
+            "{msgs:?}"
+        );
+    }
+    // A stream closed between messages is still a clean end.
+    let (code, _, err) = session(&init());
+    assert_eq!(code, Some(0), "{err}");
+}
+
+#[test]
+fn a_second_initialize_gets_an_invalid_request_error() {
+    let mut input = init();
+    input.extend(frame(
+        &json!({"jsonrpc": "2.0", "id": 7, "method": "initialize", "params": {"capabilities": {}}}),
+    ));
+    input.extend(shutdown_exit());
+    let (code, msgs, err) = session(&input);
+    let again = msgs
+        .iter()
+        .find(|m| m["id"] == 7)
+        .unwrap_or_else(|| panic!("{msgs:?}"));
+    assert_eq!(again["error"]["code"], -32600, "{again}");
+    assert_eq!(code, Some(0), "{err}");
+}

@@ -1,15 +1,20 @@
 //! `m2rc run` and `m2rc prompt` end to end, against a mock OpenAI-compatible server on loopback.
 
 use serde_json::{Value, json};
+use std::path::Path;
 use std::process::Command;
 
 const KEY: &str = "sk-cli-SECRET-9191";
 
-fn m2rc() -> Command {
+/// The binary with no model configured and its user cache directory under `home` (never the
+/// real user's).
+fn m2rc(home: &Path) -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_m2rc"));
     c.env_remove("M2R_LLM_BASE_URL")
         .env_remove("M2R_LLM_MODEL")
-        .env_remove("M2R_LLM_API_KEY");
+        .env_remove("M2R_LLM_API_KEY")
+        .env("XDG_CACHE_HOME", home.join("cache"))
+        .env("HOME", home);
     c
 }
 
@@ -38,7 +43,7 @@ fn run_lowers_repairs_and_plans_against_a_mock_server() {
         .create();
     let route = tmp.path().join("route.json");
     let png = tmp.path().join("route.png");
-    let out = m2rc()
+    let out = m2rc(tmp.path())
         .current_dir(tmp.path())
         .env("M2R_LLM_BASE_URL", format!("{}/v1", server.url()))
         .env("M2R_LLM_API_KEY", KEY)
@@ -68,8 +73,17 @@ fn run_lowers_repairs_and_plans_against_a_mock_server() {
     let doc: Value = serde_json::from_slice(&std::fs::read(&route).unwrap()).unwrap();
     assert!(doc["trajectory"].as_array().unwrap().len() > 1);
     assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    // The cache is the user's ($XDG_CACHE_HOME/m2rc/llm-cache), said on stderr; nothing is left
+    // in the working directory.
+    let cache = tmp.path().join("cache/m2rc/llm-cache");
+    assert!(
+        stderr.contains(&format!("replies cached in {}", cache.display())),
+        "{stderr}"
+    );
+    assert!(std::fs::read_dir(&cache).unwrap().count() > 0);
+    assert!(!tmp.path().join(".m2rc").exists());
     // Cached: the same command makes no request (the mocks' expectations are already met) ...
-    let again = m2rc()
+    let again = m2rc(tmp.path())
         .current_dir(tmp.path())
         .env("M2R_LLM_BASE_URL", "http://127.0.0.1:9/v1")
         .args([
@@ -113,13 +127,60 @@ fn run_lowers_repairs_and_plans_against_a_mock_server() {
 
 #[test]
 fn run_without_a_server_fails_cleanly_and_prompt_prints_the_messages() {
-    let out = m2rc()
+    let tmp = tempfile::tempdir().unwrap();
+    let out = m2rc(tmp.path())
         .args(["run", "Go to the bed.", "--map", "demo", "--llm-no-cache"])
         .output()
         .unwrap();
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("M2R_LLM_BASE_URL"));
-    let out = m2rc()
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("M2R_LLM_BASE_URL"), "{err}");
+    // It says what works without a server, with this command's own map and instruction.
+    assert!(
+        err.contains("m2rc prompt --map demo \"Go to the bed.\"")
+            && err.contains("--llm-batch-out"),
+        "{err}"
+    );
+    // A server that does not answer: the URL tried is named, and the same ways out are shown.
+    let port = {
+        let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        l.local_addr().unwrap().port()
+    };
+    let out = m2rc(tmp.path())
+        .args(["run", "Go to the bed.", "--map", "demo", "--llm-no-cache"])
+        .args(["--llm-max-attempts", "1", "--llm-base-url"])
+        .arg(format!("http://127.0.0.1:{port}/v1"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(&format!(
+            "cannot connect to http://127.0.0.1:{port}/v1/chat/completions"
+        )) && err.contains("m2rc prompt --map demo"),
+        "{err}"
+    );
+    // `--llm simulated` is not offered by `run --help`, and refused naming where it works.
+    let help = m2rc(tmp.path()).args(["run", "--help"]).output().unwrap();
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(
+        help.contains("--llm-base-url") && !help.contains("simulated"),
+        "{help}"
+    );
+    let out = m2rc(tmp.path())
+        .args([
+            "run",
+            "Go to the bed.",
+            "--map",
+            "demo",
+            "--llm",
+            "simulated",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("m2rc bench run"));
+    let out = m2rc(tmp.path())
         .args([
             "prompt",
             "--map",
@@ -134,10 +195,9 @@ fn run_without_a_server_fails_cleanly_and_prompt_prints_the_messages() {
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["messages"].as_array().unwrap().len(), 2);
     assert!(v["estimated_tokens"].as_u64().unwrap() > 1000);
-    let tmp = tempfile::tempdir().unwrap();
     let prog = tmp.path().join("p.m2r");
     std::fs::write(&prog, "route {\n  go objects(bed)\n}\n").unwrap();
-    let out = m2rc()
+    let out = m2rc(tmp.path())
         .args(["prompt", "--map", "demo", "Go to the bed.", "--repair-of"])
         .arg(&prog)
         .output()

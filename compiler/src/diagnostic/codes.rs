@@ -317,7 +317,7 @@ codes! {
     LtlNoRoute = "E0808", Error, "no route on this map satisfies the LTL formula",
         "";
     LtlDropped = "E0809", Warning, "constraint ignored by the LTL planner",
-        "";
+        "let bed = objects(bed).only()\nroute ltl \"F bed\" {\n  prefer near(objects(sofa).only())\n}";
     LtlTooLarge = "E0810", Error, "LTL automaton too large",
         "";
     LtlNextStep = "E0811", Warning, "`X` counts grid cells, not places",

@@ -70,11 +70,29 @@ pub struct ChatRequest {
     pub messages: Vec<Message>,
 }
 
-/// Token counts as the server reports them (`usage`); zero when it reports none.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// Token counts as the server reports them (`usage`); zero when it reports none, `None`
+/// (unknown, recorded as `null`) when it reports something that is not a token count (negative,
+/// fractional, 1e300), so a bad figure is never summed as if it were one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Usage {
-    pub prompt_tokens: u64,
-    pub completion_tokens: u64,
+    pub prompt_tokens: Option<u64>,
+    pub completion_tokens: Option<u64>,
+}
+
+impl Default for Usage {
+    fn default() -> Self {
+        Usage {
+            prompt_tokens: Some(0),
+            completion_tokens: Some(0),
+        }
+    }
+}
+
+impl Usage {
+    /// Whether either count is unknown.
+    pub fn is_unknown(&self) -> bool {
+        self.prompt_tokens.is_none() || self.completion_tokens.is_none()
+    }
 }
 
 /// What the model answered: the first choice (if any), why it stopped, and the accounting.

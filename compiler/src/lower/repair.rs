@@ -134,8 +134,9 @@ pub struct Attempt {
     /// `accepted`, `rejected_check`, `rejected_ground`, `rejected_verify`, `plan_failed`, or the
     /// reply kind when there was no program.
     pub outcome: String,
-    pub prompt_tokens: u64,
-    pub completion_tokens: u64,
+    /// `None` (`null`) when the server's figure was not a token count.
+    pub prompt_tokens: Option<u64>,
+    pub completion_tokens: Option<u64>,
     pub latency_ms: f64,
     /// The transport failure, for `model_failed`.
     pub error: Option<String>,
@@ -188,10 +189,22 @@ impl<T> Trace<T> {
         self.attempts.iter().map(|a| a.local_fixes.len()).sum()
     }
 
+    /// Tokens of the attempts whose counts are known (see [`Trace::unknown_usage`]).
     pub fn tokens(&self) -> (u64, u64) {
         self.attempts.iter().fold((0, 0), |(p, c), a| {
-            (p + a.prompt_tokens, c + a.completion_tokens)
+            (
+                p.saturating_add(a.prompt_tokens.unwrap_or(0)),
+                c.saturating_add(a.completion_tokens.unwrap_or(0)),
+            )
         })
+    }
+
+    /// Attempts with a reply whose token counts are unknown (left out of [`Trace::tokens`]).
+    pub fn unknown_usage(&self) -> usize {
+        self.attempts
+            .iter()
+            .filter(|a| a.prompt_tokens.is_none() || a.completion_tokens.is_none())
+            .count()
     }
 }
 
@@ -253,8 +266,9 @@ pub fn unambiguous_fixes(source: &str, diags: &[Diagnostic]) -> Option<(String, 
 const MAX_LOCAL_PASSES: usize = 4;
 
 /// Verifies `program`, applying local fixes while they help. Returns the verdict, the fixes, and
-/// the program the verdict is about.
-fn verify_with_fixes<V: Verifier>(
+/// the program the verdict is about. The repair loop and `m2rc check --fix` share it, so a fix the
+/// command applies is exactly one the loop would have applied before asking the model.
+pub fn verify_with_fixes<V: Verifier>(
     verifier: &mut V,
     program: &str,
     local: bool,
@@ -333,6 +347,8 @@ pub fn run_episode<M: ChatModel + ?Sized, V: Verifier>(
         let mut attempt = Attempt {
             round,
             custom_id: custom_id.clone(),
+            prompt_tokens: Some(0),
+            completion_tokens: Some(0),
             ..Attempt::default()
         };
         let reply = match model.complete(&request) {

@@ -165,6 +165,12 @@ fn handle_request(req: Request, docs: &Documents, vocab: &Vocabulary) -> Respons
             }
             Err(msg) => Response::new_err(id, lsp_server::ErrorCode::InvalidParams as i32, msg),
         },
+        // The handshake is done once, in `serve`; a second one is a client error.
+        "initialize" => Response::new_err(
+            id,
+            lsp_server::ErrorCode::InvalidRequest as i32,
+            "the server is already initialized: `initialize` is sent once per session".into(),
+        ),
         other => Response::new_err(
             id,
             lsp_server::ErrorCode::MethodNotFound as i32,

@@ -319,3 +319,24 @@ fn hover_and_completion_are_answered_while_a_check_is_still_running() {
     )));
     thread.join().unwrap();
 }
+
+/// A formula whose automaton is exponential (thirty unordered visits) gets E0810 on opening the
+/// document: the engine neither hangs nor runs out of memory on it, and answers afterwards.
+#[test]
+fn exponential_ltl_formula_is_a_diagnostic_not_a_crash() {
+    let mut c = Client::start();
+    let mut text = String::new();
+    for i in 0..30 {
+        text.push_str(&format!("let a{i} = rooms(kitchen).only()\n"));
+    }
+    let formula: Vec<String> = (0..30).map(|i| format!("F a{i}")).collect();
+    text.push_str(&format!("route ltl \"{}\"\n", formula.join(" & ")));
+    let d = open(&c, &text);
+    let diags = d["diagnostics"].as_array().unwrap();
+    assert!(diags.iter().any(|x| x["code"] == "E0810"), "{d}");
+    let hover = c.request(
+        "textDocument/hover",
+        serde_json::json!({ "textDocument": { "uri": URI }, "position": { "line": 0, "character": 11 } }),
+    );
+    assert!(hover["contents"]["value"].as_str().is_some(), "{hover}");
+}

@@ -149,11 +149,18 @@ pub fn check_formula(
         Err(
             e @ (BuildError::TooManyAtoms(_)
             | BuildError::TooManyStates(_)
-            | BuildError::TooDeep(_)),
+            | BuildError::TooDeep(_)
+            | BuildError::Budget { .. }),
         ) => {
+            let help = if matches!(e, BuildError::TooDeep(_)) {
+                "drop nested `X` operators, or split the formula"
+            } else {
+                "use fewer places, or fewer unordered ones: each `F x` conjoined with the others \
+                 doubles the automaton, while an ordered chain `F(a & F b)` adds one state per \
+                 place"
+            };
             return Err(vec![
-                Diagnostic::new(Code::LtlTooLarge, whole, e.to_string())
-                    .help("split the route into fewer places, or drop nested `X` operators"),
+                Diagnostic::new(Code::LtlTooLarge, whole, e.to_string()).help(help),
             ]);
         }
         Err(e) => {

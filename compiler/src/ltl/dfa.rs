@@ -8,15 +8,15 @@
 //! a state with a few relevant atoms gets a few cubes, not 2^k letters; each leaf's obligations
 //! form the successor formula. A state accepts when its formula holds on the empty suffix.
 //!
-//! Minimisation is Moore partition refinement on the symbolic edges: two states stay together while
-//! their acceptance agrees and, for every pair of their edges whose cubes intersect, the targets
-//! are in the same block. Edges of a state cover the alphabet exactly once, so this is the usual
-//! letter-by-letter refinement without enumerating letters.
+//! Minimisation is in [`super::minimise`]. Every step of both is paid for in a [`Budget`] as it
+//! happens, so a formula too large for a route is refused within a bounded amount of work and
+//! memory, not after it.
 
+use super::budget::Budget;
 use super::formula::{Arena, Id, Node};
 use super::syntax::Formula;
 use petgraph::graph::{DiGraph, NodeIndex};
-use std::collections::{HashMap, VecDeque};
+use std::collections::HashMap;
 
 /// A conjunction of literals: atoms in `pos` true, atoms in `neg` false (bit `i` = atom `i`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -69,43 +69,6 @@ impl Guard {
         };
         self.0.iter().map(cube).collect::<Vec<_>>().join(" | ")
     }
-
-    /// Merges cubes that differ in one literal and drops subsumed ones, until nothing changes.
-    fn simplify(mut cubes: Vec<Cube>) -> Guard {
-        loop {
-            cubes.sort();
-            cubes.dedup();
-            let mut changed = false;
-            'outer: for i in 0..cubes.len() {
-                for j in 0..cubes.len() {
-                    if i == j {
-                        continue;
-                    }
-                    let (a, b) = (cubes[i], cubes[j]);
-                    // a subsumes b when a's literals are a subset of b's.
-                    if a.pos & b.pos == a.pos && a.neg & b.neg == a.neg {
-                        cubes.remove(j);
-                        changed = true;
-                        break 'outer;
-                    }
-                    let (da, db) = (a.pos ^ b.pos, a.neg ^ b.neg);
-                    if da == db && da.count_ones() == 1 && (a.pos | a.neg) == (b.pos | b.neg) {
-                        let merged = Cube {
-                            pos: a.pos & !da,
-                            neg: a.neg & !da,
-                        };
-                        cubes[i] = merged;
-                        cubes.remove(j);
-                        changed = true;
-                        break 'outer;
-                    }
-                }
-            }
-            if !changed {
-                return Guard(cubes);
-            }
-        }
-    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -135,6 +98,12 @@ pub enum BuildError {
     UnknownAtom(String),
     /// A formula or state nests deeper than the construction recurses.
     TooDeep(u32),
+    /// The construction passed its work budget ([`super::budget`]) after `states` states.
+    Budget {
+        what: &'static str,
+        limit: u64,
+        states: usize,
+    },
 }
 
 impl std::fmt::Display for BuildError {
@@ -153,6 +122,15 @@ impl std::fmt::Display for BuildError {
                     "the formula nests more than {n} levels deep; simplify it"
                 )
             }
+            BuildError::Budget {
+                what,
+                limit,
+                states,
+            } => write!(
+                f,
+                "the automaton is too large to build: it passed the limit of {limit} {what} \
+                 after {states} states"
+            ),
         }
     }
 }
@@ -161,8 +139,10 @@ pub const MAX_ATOMS: usize = 64;
 /// States explored before giving up (the formula is then far larger than a route needs).
 pub const MAX_STATES: usize = 20_000;
 /// Deepest formula or state the construction takes; it recurses over them, and this keeps it well
-/// inside a thread's stack.
-pub const MAX_STATE_DEPTH: u32 = 400;
+/// inside a thread's stack (a 2 MB worker thread's too). A chain of visits nests two levels per
+/// visit, so `--planner ltl` takes routes of up to about 490 stages; a written formula nests at
+/// most `syntax::MAX_NESTING` levels.
+pub const MAX_STATE_DEPTH: u32 = 1000;
 
 /// The unfolded form of a state: the current letter's part and the obligations for the rest.
 #[derive(Clone, Debug, PartialEq)]
@@ -175,13 +155,14 @@ enum Now {
     Or(Vec<Now>),
 }
 
-fn unfold(a: &mut Arena, id: Id) -> Now {
-    match a.node(id).clone() {
+fn unfold(a: &mut Arena, id: Id, b: &mut Budget) -> Result<Now, BuildError> {
+    b.spend(1)?;
+    Ok(match a.node(id).clone() {
         Node::True | Node::NonEmpty => Now::T,
         Node::False | Node::End => Now::F,
         Node::Lit { atom, negated } => Now::Lit(atom, negated),
-        Node::And(c) => Now::And(c.iter().map(|&x| unfold(a, x)).collect()),
-        Node::Or(c) => Now::Or(c.iter().map(|&x| unfold(a, x)).collect()),
+        Node::And(c) => Now::And(unfold_all(a, &c, b)?),
+        Node::Or(c) => Now::Or(unfold_all(a, &c, b)?),
         Node::Next(x) => {
             let ne = a.non_empty();
             Now::Obl(a.and([ne, x]))
@@ -191,20 +172,25 @@ fn unfold(a: &mut Arena, id: Id) -> Now {
             Now::Obl(a.or([end, x]))
         }
         Node::Until(x, y) => Now::Or(vec![
-            unfold(a, y),
-            Now::And(vec![unfold(a, x), Now::Obl(id)]),
+            unfold(a, y, b)?,
+            Now::And(vec![unfold(a, x, b)?, Now::Obl(id)]),
         ]),
         Node::Release(x, y) => Now::And(vec![
-            unfold(a, y),
-            Now::Or(vec![unfold(a, x), Now::Obl(id)]),
+            unfold(a, y, b)?,
+            Now::Or(vec![unfold(a, x, b)?, Now::Obl(id)]),
         ]),
-        Node::Eventually(x) => Now::Or(vec![unfold(a, x), Now::Obl(id)]),
-        Node::Always(x) => Now::And(vec![unfold(a, x), Now::Obl(id)]),
-    }
+        Node::Eventually(x) => Now::Or(vec![unfold(a, x, b)?, Now::Obl(id)]),
+        Node::Always(x) => Now::And(vec![unfold(a, x, b)?, Now::Obl(id)]),
+    })
 }
 
-/// `now` with `atom` set to `value`, constant-folded.
-fn assign(now: &Now, atom: u32, value: bool) -> Now {
+fn unfold_all(a: &mut Arena, ids: &[Id], b: &mut Budget) -> Result<Vec<Now>, BuildError> {
+    ids.iter().map(|&x| unfold(a, x, b)).collect()
+}
+
+/// `now` with `atom` set to `value`, constant-folded; `steps` counts the nodes visited.
+fn assign(now: &Now, atom: u32, value: bool, steps: &mut u64) -> Now {
+    *steps += 1;
     match now {
         Now::Lit(x, neg) if *x == atom => {
             if value != *neg {
@@ -216,7 +202,7 @@ fn assign(now: &Now, atom: u32, value: bool) -> Now {
         Now::And(c) => {
             let mut out = Vec::new();
             for p in c {
-                match assign(p, atom, value) {
+                match assign(p, atom, value, steps) {
                     Now::T => {}
                     Now::F => return Now::F,
                     q => out.push(q),
@@ -231,7 +217,7 @@ fn assign(now: &Now, atom: u32, value: bool) -> Now {
         Now::Or(c) => {
             let mut out = Vec::new();
             for p in c {
-                match assign(p, atom, value) {
+                match assign(p, atom, value, steps) {
                     Now::F => {}
                     Now::T => return Now::T,
                     q => out.push(q),
@@ -260,12 +246,15 @@ fn first_atom(now: &Now) -> Option<u32> {
 /// node. The terms range over a finite set (the formula's temporal subformulas and their
 /// `X`/`WX` wrappers), so this is what makes progression close: ACI and absorption on the nested
 /// form alone still let some formulas grow equivalent states without end.
-fn residual(a: &mut Arena, now: &Now) -> Result<Id, BuildError> {
-    let terms = dnf_now(a, now)?;
+fn residual(a: &mut Arena, now: &Now, b: &mut Budget) -> Result<Id, BuildError> {
+    let terms = dnf_now(a, now, b)?;
     let mut parts = Vec::with_capacity(terms.len());
     for t in terms {
+        b.spend(1 + t.len() as u64)?;
         parts.push(a.and(t));
     }
+    // Absorption in `or` compares the terms pairwise.
+    b.spend((parts.len() * parts.len()) as u64)?;
     Ok(a.or(parts))
 }
 
@@ -276,72 +265,85 @@ type Terms = Vec<Vec<Id>>;
 /// than a route needs).
 const MAX_TERMS: usize = 4096;
 
-fn dnf_now(a: &Arena, now: &Now) -> Result<Terms, BuildError> {
+fn dnf_now(a: &Arena, now: &Now, b: &mut Budget) -> Result<Terms, BuildError> {
+    b.spend(1)?;
     match now {
         Now::T => Ok(vec![vec![]]),
         Now::F | Now::Lit(..) => Ok(vec![]),
-        Now::Obl(x) => dnf_id(a, *x),
+        Now::Obl(x) => dnf_id(a, *x, b),
         Now::And(c) => {
             let mut acc: Terms = vec![vec![]];
             for p in c {
-                acc = product(acc, dnf_now(a, p)?)?;
+                acc = product(acc, dnf_now(a, p, b)?, b)?;
             }
             Ok(acc)
         }
         Now::Or(c) => {
             let mut acc: Terms = Vec::new();
             for p in c {
-                acc.extend(dnf_now(a, p)?);
+                acc.extend(dnf_now(a, p, b)?);
             }
-            minimal(acc)
+            minimal(acc, b)
         }
     }
 }
 
-fn dnf_id(a: &Arena, id: Id) -> Result<Terms, BuildError> {
+fn dnf_id(a: &Arena, id: Id, b: &mut Budget) -> Result<Terms, BuildError> {
+    b.spend(1)?;
     match a.node(id) {
         Node::True => Ok(vec![vec![]]),
         Node::False => Ok(vec![]),
         Node::And(c) => {
             let mut acc: Terms = vec![vec![]];
             for &p in c {
-                acc = product(acc, dnf_id(a, p)?)?;
+                acc = product(acc, dnf_id(a, p, b)?, b)?;
             }
             Ok(acc)
         }
         Node::Or(c) => {
             let mut acc: Terms = Vec::new();
             for &p in c {
-                acc.extend(dnf_id(a, p)?);
+                acc.extend(dnf_id(a, p, b)?);
             }
-            minimal(acc)
+            minimal(acc, b)
         }
         _ => Ok(vec![vec![id]]),
     }
 }
 
-fn product(xs: Terms, ys: Terms) -> Result<Terms, BuildError> {
+fn too_many_terms(b: &Budget) -> BuildError {
+    BuildError::Budget {
+        what: "terms in one state",
+        limit: MAX_TERMS as u64,
+        states: b.states,
+    }
+}
+
+fn product(xs: Terms, ys: Terms, b: &mut Budget) -> Result<Terms, BuildError> {
     if xs.len().saturating_mul(ys.len()) > MAX_TERMS * 4 {
-        return Err(BuildError::TooManyStates(MAX_STATES));
+        return Err(too_many_terms(b));
     }
     let mut out = Vec::with_capacity(xs.len() * ys.len());
     for x in &xs {
         for y in &ys {
+            b.spend(1 + (x.len() + y.len()) as u64)?;
             let mut t: Vec<Id> = x.iter().chain(y).copied().collect();
             t.sort_unstable();
             t.dedup();
             out.push(t);
         }
     }
-    minimal(out)
+    minimal(out, b)
 }
 
 /// Sorted terms without duplicates and without any term that contains another (absorption).
-fn minimal(mut terms: Terms) -> Result<Terms, BuildError> {
+fn minimal(mut terms: Terms, b: &mut Budget) -> Result<Terms, BuildError> {
+    b.spend(terms.len() as u64)?;
     terms.sort_by(|x, y| x.len().cmp(&y.len()).then_with(|| x.cmp(y)));
     terms.dedup();
     let mut keep: Terms = Vec::with_capacity(terms.len());
     for t in terms {
+        b.spend(1 + keep.len() as u64)?;
         let absorbed = keep
             .iter()
             .any(|k| k.iter().all(|x| t.binary_search(x).is_ok()));
@@ -350,40 +352,45 @@ fn minimal(mut terms: Terms) -> Result<Terms, BuildError> {
         }
     }
     if keep.len() > MAX_TERMS {
-        return Err(BuildError::TooManyStates(MAX_STATES));
+        return Err(too_many_terms(b));
     }
     keep.sort();
     Ok(keep)
 }
 
-fn split(a: &mut Arena, now: Now, cube: Cube, out: &mut Vec<(Cube, Id)>) -> Result<(), BuildError> {
+/// Shannon expansion of `now` below `cube`: one leaf per cube of the state's guards, each with
+/// its successor. Each node pays for the literals it decides and for its constant folding.
+fn split(
+    a: &mut Arena,
+    now: Now,
+    cube: Cube,
+    out: &mut Vec<(Cube, Id)>,
+    b: &mut Budget,
+) -> Result<(), BuildError> {
     match first_atom(&now) {
         None => {
-            let r = residual(a, &now)?;
+            b.cube()?;
+            let r = residual(a, &now, b)?;
             out.push((cube, r));
         }
         Some(x) => {
             let bit = 1u64 << x;
-            let t = assign(&now, x, true);
-            split(
-                a,
-                t,
-                Cube {
-                    pos: cube.pos | bit,
-                    ..cube
-                },
-                out,
-            )?;
-            let f = assign(&now, x, false);
-            split(
-                a,
-                f,
-                Cube {
-                    neg: cube.neg | bit,
-                    ..cube
-                },
-                out,
-            )?;
+            let mut steps = 0u64;
+            let t = assign(&now, x, true, &mut steps);
+            let f = assign(&now, x, false, &mut steps);
+            // `first_atom` walked it too.
+            b.spend(steps + steps / 2)?;
+            drop(now);
+            let pos = Cube {
+                pos: cube.pos | bit,
+                ..cube
+            };
+            split(a, t, pos, out, b)?;
+            let neg = Cube {
+                neg: cube.neg | bit,
+                ..cube
+            };
+            split(a, f, neg, out, b)?;
         }
     }
     Ok(())
@@ -391,34 +398,10 @@ fn split(a: &mut Arena, now: Now, cube: Cube, out: &mut Vec<(Cube, Id)>) -> Resu
 
 impl Dfa {
     /// The automaton of `formula` over `atoms` (every atom of the formula must be listed; atoms
-    /// not in the formula are allowed and simply never constrain a guard).
+    /// not in the formula are allowed and simply never constrain a guard), within the default
+    /// [`Budget`].
     pub fn build(formula: &Formula, atoms: &[String], minimise: bool) -> Result<Dfa, BuildError> {
-        if atoms.len() > MAX_ATOMS {
-            return Err(BuildError::TooManyAtoms(atoms.len()));
-        }
-        let index: HashMap<&str, u32> = atoms
-            .iter()
-            .enumerate()
-            .map(|(i, a)| (a.as_str(), i as u32))
-            .collect();
-        let mut arena = Arena::new();
-        let root = arena
-            .from_formula(formula, false, &|n| index.get(n).copied())
-            .map_err(|_| {
-                BuildError::UnknownAtom(
-                    formula
-                        .atoms()
-                        .into_iter()
-                        .find(|a| !index.contains_key(a))
-                        .unwrap_or_default()
-                        .to_string(),
-                )
-            })?;
-        if arena.depth(root) > MAX_STATE_DEPTH {
-            return Err(BuildError::TooDeep(MAX_STATE_DEPTH));
-        }
-        let raw = explore(&mut arena, root, atoms)?;
-        Ok(if minimise { raw.minimised() } else { raw })
+        build_with(formula, atoms, minimise, &mut Budget::default())
     }
 
     pub fn states(&self) -> usize {
@@ -471,102 +454,65 @@ impl Dfa {
         // The empty trace does not count: some edge out of the initial state must stay live.
         self.edges[self.initial].iter().any(|e| live[e.to])
     }
+}
 
-    fn minimised(&self) -> Dfa {
-        let n = self.states();
-        let mut block: Vec<usize> = self.accepting.iter().map(|&a| a as usize).collect();
-        loop {
-            // Signature of a state relative to a block representative: compare edge by edge.
-            let mut reps: Vec<usize> = Vec::new();
-            let mut next = vec![0usize; n];
-            for q in 0..n {
-                let found =
-                    reps.iter().position(|&r| {
-                        block[r] == block[q]
-                            && self.edges[q].iter().all(|e1| {
-                                self.edges[r].iter().all(|e2| {
-                                    block[e1.to] == block[e2.to]
-                                        || !e1.guard.0.iter().any(|c1| {
-                                            e2.guard.0.iter().any(|c2| c1.intersects(*c2))
-                                        })
-                                })
-                            })
-                    });
-                next[q] = match found {
-                    Some(k) => k,
-                    None => {
-                        reps.push(q);
-                        reps.len() - 1
-                    }
-                };
-            }
-            let mut distinct = block.clone();
-            distinct.sort_unstable();
-            distinct.dedup();
-            let (before, after) = (distinct.len(), reps.len());
-            block = next;
-            if after == before {
-                break;
-            }
-        }
-        // Renumber blocks in breadth-first order from the initial state.
-        let mut order: HashMap<usize, usize> = HashMap::new();
-        let mut queue = VecDeque::from([self.initial]);
-        let mut seen = vec![false; n];
-        seen[self.initial] = true;
-        let mut rep_of: Vec<usize> = Vec::new();
-        while let Some(q) = queue.pop_front() {
-            if let std::collections::hash_map::Entry::Vacant(slot) = order.entry(block[q]) {
-                slot.insert(rep_of.len());
-                rep_of.push(q);
-            }
-            for e in &self.edges[q] {
-                if !seen[e.to] {
-                    seen[e.to] = true;
-                    queue.push_back(e.to);
-                }
-            }
-        }
-        let mut edges = Vec::with_capacity(rep_of.len());
-        for (k, &q) in rep_of.iter().enumerate() {
-            let mut by_target: Vec<(usize, Vec<Cube>)> = Vec::new();
-            for e in &self.edges[q] {
-                let to = order[&block[e.to]];
-                match by_target.iter_mut().find(|(t, _)| *t == to) {
-                    Some((_, c)) => c.extend(e.guard.0.iter().copied()),
-                    None => by_target.push((to, e.guard.0.clone())),
-                }
-            }
-            edges.push(
-                by_target
+/// [`Dfa::build`] within `budget`.
+pub fn build_with(
+    formula: &Formula,
+    atoms: &[String],
+    minimise: bool,
+    budget: &mut Budget,
+) -> Result<Dfa, BuildError> {
+    if atoms.len() > MAX_ATOMS {
+        return Err(BuildError::TooManyAtoms(atoms.len()));
+    }
+    let index: HashMap<&str, u32> = atoms
+        .iter()
+        .enumerate()
+        .map(|(i, a)| (a.as_str(), i as u32))
+        .collect();
+    let mut arena = Arena::new();
+    let root = arena
+        .from_formula(formula, false, &|n| index.get(n).copied())
+        .map_err(|_| {
+            BuildError::UnknownAtom(
+                formula
+                    .atoms()
                     .into_iter()
-                    .map(|(to, cubes)| Edge {
-                        from: k,
-                        to,
-                        guard: Guard::simplify(cubes),
-                    })
-                    .collect(),
-            );
-        }
-        Dfa {
-            atoms: self.atoms.clone(),
-            initial: 0,
-            accepting: rep_of.iter().map(|&q| self.accepting[q]).collect(),
-            edges,
-        }
+                    .find(|a| !index.contains_key(a))
+                    .unwrap_or_default()
+                    .to_string(),
+            )
+        })?;
+    if arena.depth(root) > MAX_STATE_DEPTH {
+        return Err(BuildError::TooDeep(MAX_STATE_DEPTH));
+    }
+    let raw = explore(&mut arena, root, atoms, budget)?;
+    if minimise {
+        super::minimise::minimised(&raw, budget)
+    } else {
+        Ok(raw)
     }
 }
 
-fn explore(arena: &mut Arena, root: Id, atoms: &[String]) -> Result<Dfa, BuildError> {
+fn explore(
+    arena: &mut Arena,
+    root: Id,
+    atoms: &[String],
+    b: &mut Budget,
+) -> Result<Dfa, BuildError> {
     let mut states: Vec<Id> = vec![root];
     let mut index: HashMap<Id, usize> = HashMap::from([(root, 0)]);
     let mut edges: Vec<Vec<Edge>> = Vec::new();
     let mut q = 0;
     while q < states.len() {
-        let now = unfold(arena, states[q]);
+        b.states = states.len();
+        let now = unfold(arena, states[q], b)?;
         let mut leaves = Vec::new();
-        split(arena, now, Cube::default(), &mut leaves)?;
+        split(arena, now, Cube::default(), &mut leaves, b)?;
         let mut out: Vec<(usize, Vec<Cube>)> = Vec::new();
+        // Position in `out` of each target.
+        let mut slot: HashMap<usize, usize> = HashMap::new();
         for (cube, succ) in leaves {
             let to = match index.get(&succ) {
                 Some(&t) => t,
@@ -582,9 +528,12 @@ fn explore(arena: &mut Arena, root: Id, atoms: &[String]) -> Result<Dfa, BuildEr
                     states.len() - 1
                 }
             };
-            match out.iter_mut().find(|(t, _)| *t == to) {
-                Some((_, c)) => c.push(cube),
-                None => out.push((to, vec![cube])),
+            match slot.get(&to) {
+                Some(&k) => out[k].1.push(cube),
+                None => {
+                    slot.insert(to, out.len());
+                    out.push((to, vec![cube]));
+                }
             }
         }
         edges.push(

@@ -10,11 +10,13 @@
 //! atoms are the places the cell is in. The planner side (the product of the grid with the
 //! automaton) is `m2rc_planner::product`. See `docs/ltl.md`.
 
+pub mod budget;
 pub mod check;
 pub mod dfa;
 pub mod export;
 pub mod formula;
 pub mod lower;
+mod minimise;
 pub mod program;
 mod scope;
 pub mod syntax;

@@ -104,3 +104,60 @@ pub fn with_avoids(formula: &Formula, avoids: &[String]) -> Formula {
     );
     Formula::and_all(parts)
 }
+
+/// Atoms with a positive occurrence in `formula` (under an even number of negations, reading
+/// `a -> b` as `!a | b` and `a <-> b` as both polarities), in first-occurrence order: the places
+/// the formula can ask the route to enter. An atom that occurs only negated (`G !bath`) is a
+/// place to keep out of, never a destination.
+pub fn visit_atoms(formula: &Formula) -> Vec<String> {
+    fn go(f: &Formula, neg: bool, out: &mut Vec<String>) {
+        match &f.kind {
+            Kind::True | Kind::False => {}
+            Kind::Atom(a) => {
+                if !neg && !out.contains(a) {
+                    out.push(a.clone());
+                }
+            }
+            Kind::Not(x) => go(x, !neg, out),
+            Kind::Next(x) | Kind::WeakNext(x) | Kind::Eventually(x) | Kind::Always(x) => {
+                go(x, neg, out)
+            }
+            Kind::Implies(a, b) => {
+                go(a, !neg, out);
+                go(b, neg, out);
+            }
+            Kind::Iff(a, b) => {
+                for n in [neg, !neg] {
+                    go(a, n, out);
+                    go(b, n, out);
+                }
+            }
+            Kind::And(a, b)
+            | Kind::Or(a, b)
+            | Kind::Until(a, b)
+            | Kind::Release(a, b)
+            | Kind::WeakUntil(a, b) => {
+                go(a, neg, out);
+                go(b, neg, out);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    go(formula, false, &mut out);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn visit_atoms_are_the_positive_ones() {
+        let f = parse("F(kitchen & F bed) & G !bath").unwrap();
+        assert_eq!(visit_atoms(&f), vec!["kitchen", "bed"]);
+        let f = parse("!(a -> b) | (c <-> !d) | !!e").unwrap();
+        assert_eq!(visit_atoms(&f), vec!["a", "c", "d", "e"]);
+        let f = parse("G !a & !F b").unwrap();
+        assert!(visit_atoms(&f).is_empty());
+    }
+}

@@ -111,3 +111,77 @@ fn progression_closes_with_absorption() {
         assert!(d.accepts(t), "{t:?}");
     }
 }
+
+/// `F a0 & F a1 & ... & F a{n-1}`: n unordered visits, 2^n states.
+fn eventualities(n: usize) -> String {
+    (0..n)
+        .map(|i| format!("F a{i}"))
+        .collect::<Vec<_>>()
+        .join(" & ")
+}
+
+/// A formula whose automaton is exponential is refused by the work budget, as it goes: the first
+/// state of 30 (or 64) unordered visits alone has 2^30 guard cubes, so a state limit checked per
+/// state would never be reached.
+#[test]
+fn exponential_formulas_are_refused_within_the_budget() {
+    for n in [14, 30, 64] {
+        let text = eventualities(n);
+        let err = super::check_formula(&text, 0, &|_| super::AtomKind::Place, &[])
+            .expect_err("refused")
+            .remove(0);
+        assert_eq!(err.code.id(), "E0810", "{n}: {}", err.message);
+        assert!(err.message.contains("limit"), "{}", err.message);
+        assert_eq!((err.span.start, err.span.end), (0, text.len()));
+        let atoms: Vec<String> = (0..n).map(|i| format!("a{i}")).collect();
+        let f = super::parse(&text).unwrap();
+        for minimise in [true, false] {
+            assert!(matches!(
+                super::Dfa::build(&f, &atoms, minimise),
+                Err(super::dfa::BuildError::Budget { .. })
+            ));
+        }
+    }
+    // Six unordered visits are an ordinary route: 64 states, built.
+    let c = super::check_formula(&eventualities(6), 0, &|_| super::AtomKind::Place, &[]).unwrap();
+    assert_eq!(c.dfa.states(), 64);
+}
+
+/// The same refusal inside a program: `check` (static, no map) reports E0810 on the formula.
+#[test]
+fn exponential_formula_in_a_program_is_an_error_of_check() {
+    for n in [30, 64] {
+        let mut src = String::new();
+        for i in 0..n {
+            src.push_str(&format!("let a{i} = rooms(kitchen).only()\n"));
+        }
+        src.push_str(&format!("route ltl \"{}\"\n", eventualities(n)));
+        let got = found(&src);
+        assert!(
+            got.iter()
+                .any(|(c, t)| *c == "E0810" && *t == eventualities(n)),
+            "{n}: {got:?}"
+        );
+    }
+}
+
+/// The budget counts steps, not time: the same formula costs the same on every run, and a
+/// smaller budget refuses what the default one builds.
+#[test]
+fn the_budget_is_deterministic() {
+    use super::budget::Budget;
+    let f = super::parse("F(a & F(b & F c)) & G !d & (e U f)").unwrap();
+    let atoms: Vec<String> = ["a", "b", "c", "d", "e", "f"].map(String::from).to_vec();
+    let used = |max: u64| {
+        let mut b = Budget::new(max, super::budget::MAX_CUBES);
+        super::dfa::build_with(&f, &atoms, true, &mut b).map(|d| (d.states(), b.used()))
+    };
+    let (states, spent) = used(super::budget::MAX_WORK).unwrap();
+    assert_eq!(used(super::budget::MAX_WORK).unwrap(), (states, spent));
+    assert!(spent > 0);
+    assert!(matches!(
+        used(spent - 1),
+        Err(super::dfa::BuildError::Budget { .. })
+    ));
+    assert_eq!(used(spent).unwrap().0, states);
+}

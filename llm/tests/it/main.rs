@@ -2,3 +2,4 @@
 //! Linking the workspace once instead of once per file is most of a fresh build's time.
 
 mod mock_server;
+mod replies;

@@ -15,13 +15,13 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-const KEY: &str = "sk-test-SECRET-4242";
-const PATH: &str = "/v1/chat/completions";
-const BAD: &str =
+pub(crate) const KEY: &str = "sk-test-SECRET-4242";
+pub(crate) const PATH: &str = "/v1/chat/completions";
+pub(crate) const BAD: &str =
     "let c = objects(chiar).nearest(start)\nroute {\n  go objects(bed)\n  avoid c\n}\n";
-const GOOD: &str = "let c = objects(chair).nearest(start)\nroute {\n  go objects(bed).nearest(start)\n  avoid c\n}\n";
+pub(crate) const GOOD: &str = "let c = objects(chair).nearest(start)\nroute {\n  go objects(bed).nearest(start)\n  avoid c\n}\n";
 
-fn config(url: &str) -> LlmConfig {
+pub(crate) fn config(url: &str) -> LlmConfig {
     LlmConfig {
         base_url: format!("{url}/v1"),
         model: "test-model".into(),
@@ -34,7 +34,7 @@ fn config(url: &str) -> LlmConfig {
     }
 }
 
-fn completion(content: &str, finish: &str) -> String {
+pub(crate) fn completion(content: &str, finish: &str) -> String {
     json!({
         "id": "x", "object": "chat.completion",
         "choices": [{"index": 0, "message": {"role": "assistant", "content": content}, "finish_reason": finish}],
@@ -43,11 +43,11 @@ fn completion(content: &str, finish: &str) -> String {
     .to_string()
 }
 
-fn code(p: &str) -> String {
+pub(crate) fn code(p: &str) -> String {
     completion(&format!("```m2r\n{p}```"), "stop")
 }
 
-fn prompt() -> Prompt {
+pub(crate) fn prompt() -> Prompt {
     let map = m2rc_stdlib::demo::demo_map().unwrap();
     Prompt::new(
         &map.map_id,
@@ -57,7 +57,7 @@ fn prompt() -> Prompt {
     )
 }
 
-fn check_only(source: &str) -> Verdict<()> {
+pub(crate) fn check_only(source: &str) -> Verdict<()> {
     let r = m2rc_compiler::check(source, &Vocabulary::benchmark());
     if r.has_errors() {
         Verdict::Rejected {
@@ -69,7 +69,7 @@ fn check_only(source: &str) -> Verdict<()> {
     }
 }
 
-fn episode(client: &HttpClient, store: &Store, id: &str) -> Trace<()> {
+pub(crate) fn episode(client: &HttpClient, store: &Store, id: &str) -> Trace<()> {
     let model = Exchange {
         store,
         fetch: client,
@@ -78,7 +78,7 @@ fn episode(client: &HttpClient, store: &Store, id: &str) -> Trace<()> {
     run_episode(&model, &mut v, &prompt(), id, &RepairOptions::default())
 }
 
-fn no_cache() -> Store {
+pub(crate) fn no_cache() -> Store {
     Store::new(None, None, false)
 }
 
@@ -215,6 +215,11 @@ fn connection_refused_and_timeouts_end_in_a_recorded_failure() {
         panic!("{:?}", t.outcome)
     };
     assert!(message.contains("cannot connect"), "{message}");
+    // The URL tried is named, so a typo in --llm-base-url shows.
+    assert!(
+        message.contains(&format!("http://127.0.0.1:{port}/v1/chat/completions")),
+        "{message}"
+    );
 
     // A server that accepts and never answers.
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
@@ -276,7 +281,7 @@ fn empty_choices_no_code_and_cut_off_replies_are_answered_by_a_repair_round() {
 }
 
 /// Every file under `dir`, for the credential grep.
-fn files(dir: &Path) -> Vec<std::path::PathBuf> {
+pub(crate) fn files(dir: &Path) -> Vec<std::path::PathBuf> {
     let mut out = Vec::new();
     let mut stack = vec![dir.to_path_buf()];
     while let Some(d) = stack.pop() {
@@ -340,7 +345,7 @@ fn the_cache_answers_first_and_survives_corruption() {
 }
 
 /// Answers every line of a batch input file with `program`, in the Batch output format.
-fn answer(batch: &Path, out: &Path, program: &str) -> usize {
+pub(crate) fn answer(batch: &Path, out: &Path, program: &str) -> usize {
     let text = std::fs::read_to_string(batch).unwrap();
     let mut lines = String::new();
     for l in text.lines() {
@@ -410,9 +415,9 @@ fn batch_round_trip_export_answer_import_continue() {
     let t = run();
     assert_eq!(t.outcome, EpisodeOutcome::Success { round: 1 });
     assert_eq!(std::fs::read_to_string(&batch).unwrap(), "");
-    // A reply nobody asked for is reported, not imported.
+    // A reply imported before is reported as such, not imported again.
     let again = import_batch_files(std::slice::from_ref(&replies), &cache).unwrap();
-    assert_eq!((again.imported, again.unknown.len()), (0, 1));
+    assert_eq!((again.imported, again.already.len()), (0, 1));
     for f in files(tmp.path()) {
         assert!(
             !std::fs::read_to_string(&f)

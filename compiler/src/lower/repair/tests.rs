@@ -36,8 +36,8 @@ fn code(program: &str) -> Result<ChatReply, ChatError> {
         content: Some(format!("```m2r\n{program}```")),
         finish_reason: Some("stop".into()),
         usage: Usage {
-            prompt_tokens: 100,
-            completion_tokens: 20,
+            prompt_tokens: Some(100),
+            completion_tokens: Some(20),
         },
         latency_ms: 5.0,
         refusal: None,
