@@ -7,7 +7,8 @@
 //! changed prediction is never mixed into an earlier import), the same lock, resume and
 //! validation. What is particular to an import is refused before anything is written: a
 //! prediction for a map or episode the suite does not have, two predictions for one episode, a
-//! file that names no episode, an output folder that is (or holds, or is inside) an input. An
+//! file that names no episode (and, by the command, an output folder that is, holds or lies in
+//! an input: `cli::outputs`). An
 //! episode without a prediction, or with one that cannot be read as a route, is scored on its
 //! start cell alone and its record says why (`status` `missing_prediction` or
 //! `malformed_prediction`, and `prediction.problem`), so it costs points instead of vanishing.
@@ -27,7 +28,7 @@ use discover::{discover, map_tail};
 use m2rc_stdlib::grid::Cell;
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Status of the record of an episode with no prediction file.
 pub const MISSING: &str = "missing_prediction";
@@ -68,13 +69,6 @@ const MAX_LISTED: usize = 20;
 
 pub fn import(opts: &ImportOptions) -> Result<ImportSummary, RunError> {
     check_method_name(&opts.method)?;
-    refuse_output_over_inputs(
-        &opts.out,
-        &[
-            ("--suite", &opts.suite),
-            ("--predictions", &opts.predictions),
-        ],
-    )?;
     let manifest =
         SuiteManifest::read(&opts.suite).map_err(|e| RunError::Invalid(e.to_string()))?;
     let found = discover(&opts.predictions).map_err(RunError::Invalid)?;
@@ -138,61 +132,6 @@ fn check_method_name(name: &str) -> Result<(), RunError> {
     if METHOD_NAMES.contains(&name) || MODEL_METHOD_NAMES.contains(&name) {
         return Err(RunError::Invalid(format!(
             "--method `{name}` is one of m2rc's own methods; give the imported routes a name of their own"
-        )));
-    }
-    Ok(())
-}
-
-/// `path` made absolute with every existing part resolved (links included) and `.` and `..`
-/// applied, so that two spellings of one folder compare equal even when the last parts do not
-/// exist yet (`new/../preds` is `preds`).
-fn resolved(path: &Path) -> Result<PathBuf, RunError> {
-    use std::path::Component;
-    let abs = std::path::absolute(path).map_err(|e| RunError::Io {
-        path: path.display().to_string(),
-        source: e,
-    })?;
-    // The longest existing prefix, resolved by the file system; the parts after it do not
-    // exist, so none is a link and `..` among them is plain text.
-    let parts: Vec<Component> = abs.components().collect();
-    for split in (0..=parts.len()).rev() {
-        let head: PathBuf = parts[..split].iter().collect();
-        let Ok(mut out) = std::fs::canonicalize(&head) else {
-            continue;
-        };
-        for part in &parts[split..] {
-            match part {
-                Component::ParentDir => {
-                    out.pop();
-                }
-                Component::CurDir => {}
-                other => out.push(other),
-            }
-        }
-        return Ok(out);
-    }
-    Ok(abs)
-}
-
-/// Refuses an output folder that is an input, lies inside one (a later import would read the
-/// records as predictions) or holds one (the run would write among the inputs).
-fn refuse_output_over_inputs(out: &Path, inputs: &[(&str, &Path)]) -> Result<(), RunError> {
-    let o = resolved(out)?;
-    for (flag, input) in inputs {
-        let i = resolved(input)?;
-        let how = if o == i {
-            "is"
-        } else if o.starts_with(&i) {
-            "is inside"
-        } else if i.starts_with(&o) {
-            "holds"
-        } else {
-            continue;
-        };
-        return Err(RunError::Invalid(format!(
-            "--out {} {how} the {flag} folder {}; an output never overwrites an input: choose another --out",
-            out.display(),
-            input.display()
         )));
     }
     Ok(())

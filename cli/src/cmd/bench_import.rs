@@ -33,6 +33,18 @@ pub struct ImportArgs {
 const LISTED: usize = 10;
 
 pub fn run(a: ImportArgs) -> Result<ExitCode> {
+    // Records among the predictions would be read as predictions by the next import; among
+    // the suite's files they would change its fingerprint.
+    crate::outputs::refuse_output_among_inputs(
+        &a.out,
+        std::slice::from_ref(&a.predictions),
+        "--predictions folder",
+    )?;
+    crate::outputs::refuse_output_among_inputs(
+        &a.out,
+        std::slice::from_ref(&a.suite),
+        "--suite folder",
+    )?;
     let s = import(&ImportOptions {
         suite: a.suite,
         predictions: a.predictions,

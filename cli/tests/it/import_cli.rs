@@ -288,13 +288,14 @@ fn the_output_is_never_an_input_and_the_name_is_not_an_m2rc_method() {
         (preds.clone(), "is the --predictions folder"),
         (
             preds.join("runs/mine"),
-            "is inside the --predictions folder",
+            "lies inside the --predictions folder",
         ),
-        (tmp.path().to_path_buf(), "holds the --suite folder"),
-        (suite_copy.join("run"), "is inside the --suite folder"),
+        (tmp.path().to_path_buf(), "holds the --predictions folder"),
+        (suite_copy.clone(), "is a benchmark suite"),
+        (suite_copy.join("run"), "lies inside a benchmark suite"),
         (tmp.path().join("x/../preds"), "is the --predictions folder"),
     ] {
-        let r = run(&out, "mine").expect(1);
+        let r = run(&out, "mine").expect(2);
         assert!(r.stderr.contains(how), "{}: {}", out.display(), r.stderr);
     }
     assert!(!preds.join("runs").exists() && !suite_copy.join("run").exists());
