@@ -27,6 +27,19 @@ accepted), a message, a primary span, secondary labels, notes, an optional `help
 machine-applicable suggestions (the first is the preferred fix; several are alternatives, such as
 each candidate of an ambiguous category).
 
+## Success and `--fix`
+
+On success `m2rc check` prints `ok: N bindings, M stages` on standard error (with the warnings, if
+any); with errors it prints the diagnostics and `file: N error(s), M warning(s)`.
+
+`m2rc check prog.m2r --fix` applies what the repair loop applies before it asks a model (the
+same code): every error with exactly one suggestion whose edit overlaps no other, re-checking after
+each pass (at most four). It rewrites the file atomically (`-o fixed.m2r` writes elsewhere, `-o -`
+standard output; a program read from `-` goes to standard output), prints one line per fix
+(`fixed [E0401]: `bedd` -> `bed` (unknown category `bedd`)`), then checks the result as above. A
+diagnostic with several suggestions (each candidate of an ambiguous category) is left to the
+writer: choosing one would invent meaning. Nothing to fix leaves the file untouched.
+
 ## JSON form
 
 `m2rc check --format json` prints an array of objects:
