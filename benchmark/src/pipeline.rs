@@ -99,6 +99,8 @@ fn compile(
 ) -> Result<CompiledRoute, Vec<Diagnostic>> {
     if let Some(m) = &opts.meter {
         m.check().map_err(|d| vec![*d])?;
+        // A model's program is held to the limits a user's is (`m2rc check`, `compile`).
+        crate::limits::check_program_size(source).map_err(|why| vec![*m.refuse(why)])?;
     }
     let vocab = Vocabulary::from_map(map);
     let checked = check(source, &vocab);
