@@ -1,6 +1,7 @@
 //! One integration-test binary for the crate: each module was once its own test target.
 //! Linking the workspace once instead of once per file is most of a fresh build's time.
 
+mod episode_png;
 mod eval_props;
 mod grounding2route;
 mod ltl_differential;
