@@ -463,7 +463,12 @@ impl<'a> Scene<'a> {
     ) -> (Value, String) {
         let ix = &self.ix;
         let role = format!("{} preference", soft.kind());
-        let label = format!("{} in room {}", soft.kind(), soft.room);
+        // The map's own room name, as the pictures and `m2rc compile` name rooms.
+        let room = ix.map.room(soft.room).map_or_else(
+            || format!("room {}", soft.room),
+            m2rc_compiler::eval::room_name,
+        );
+        let label = format!("{} in {room}", soft.kind());
         if let Pref::Shape(shape) = &soft.pref
             && shape.kind != ShapeKind::Through
         {
