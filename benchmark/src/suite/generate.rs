@@ -96,6 +96,10 @@ pub struct EpisodeMeta {
     /// The instruction's clauses, each traced to the template(s) and program statement.
     #[serde(default)]
     pub clauses: Vec<Clause>,
+    /// Every mention read back as written: how many were checked, and those whose words do not
+    /// pick out the gold's object ([`super::determinacy`]).
+    #[serde(default)]
+    pub determinacy: super::determinacy::Determinacy,
 }
 
 pub struct GeneratedEpisode {

@@ -6,6 +6,7 @@
 //! episode has described: a room is described in full once and referred back to afterwards
 //! ("that room", "the same bedroom"), which the naturalness counters check.
 
+use super::determinacy::Reader;
 use super::index::MapIndex;
 use super::lexicon;
 use super::refs::RoomRef;
@@ -26,6 +27,9 @@ pub struct Speaker<'r> {
     /// The room a clause is already scoped to ("in this lounge, ..."): descriptions inside the
     /// clause leave it out rather than name it a second time.
     pub implied_room: Option<u32>,
+    /// The episode read back as it is written, to check that every mention names the gold's
+    /// object ([`super::determinacy`]).
+    pub reader: Reader,
 }
 
 impl<'r> Speaker<'r> {
@@ -36,6 +40,7 @@ impl<'r> Speaker<'r> {
             room_back: BTreeMap::new(),
             templates: Vec::new(),
             implied_room: None,
+            reader: Reader::default(),
         }
     }
 
@@ -56,27 +61,60 @@ impl<'r> Speaker<'r> {
 
     /// A room: described in full the first time, referred back to afterwards.
     pub fn room(&mut self, ix: &MapIndex<'_>, r: &RoomRef) -> String {
+        self.room_said(ix, r, "room").0
+    }
+
+    /// [`Self::room`], and the rooms a reader takes the words for, checked as a mention of
+    /// `kind` against the room `r` describes.
+    pub fn room_said(&mut self, ix: &MapIndex<'_>, r: &RoomRef, kind: &str) -> (String, Vec<u32>) {
         match r.resolve(ix).as_slice() {
-            [id] => self.room_id(ix, *id, Some(r)),
-            _ => r.full_text(self.rng),
+            [id] => self.room_id_said(ix, *id, Some(r), kind),
+            _ => {
+                let t = r.full_text(self.rng);
+                let read = r.resolve(ix);
+                self.reader.note(kind, &t, read.clone(), read.clone());
+                (t, read)
+            }
         }
     }
 
     /// Room `id` by its description `r` (or, when none, by its category).
     pub fn room_id(&mut self, ix: &MapIndex<'_>, id: u32, r: Option<&RoomRef>) -> String {
+        self.room_id_said(ix, id, r, "room").0
+    }
+
+    /// [`Self::room_id`], and what a reader takes the words for.
+    pub fn room_id_said(
+        &mut self,
+        ix: &MapIndex<'_>,
+        id: u32,
+        r: Option<&RoomRef>,
+        kind: &str,
+    ) -> (String, Vec<u32>) {
         let cat = ix.room_category(id).to_string();
-        if self.knows_room(id) || r.is_none() {
-            *self.room_back.entry(id).or_default() += 1;
-            let n = lexicon::noun(&cat, self.rng);
-            return self
-                .pick(
+        let (t, read) = match r.filter(|_| !self.knows_room(id)) {
+            Some(r) => {
+                *self.room_full.entry(id).or_default() += 1;
+                (r.full_text(self.rng), r.resolve(ix))
+            }
+            None => {
+                *self.room_back.entry(id).or_default() += 1;
+                let n = lexicon::noun(&cat, self.rng);
+                let form = self.pick(
                     "room.back",
                     &["that room", "the same {n}", "that {n}", "this {n}"],
-                )
-                .replace("{n}", &n);
-        }
-        *self.room_full.entry(id).or_default() += 1;
-        r.map(|r| r.full_text(self.rng)).unwrap_or_default()
+                );
+                let read = if form.contains("{n}") {
+                    self.reader.back_room(ix, Some(&cat))
+                } else {
+                    self.reader.back_room(ix, None)
+                };
+                (form.replace("{n}", &n), read)
+            }
+        };
+        self.reader.note(kind, &t, vec![id], read.clone());
+        self.reader.named_room(&read);
+        (t, read)
     }
 
     /// One of `options`, recording the template id `family.index`.

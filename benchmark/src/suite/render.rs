@@ -12,7 +12,6 @@ use super::generate::{
     room_traversal,
 };
 use super::index::MapIndex;
-use super::lexicon;
 use super::plan::{AvoidPlace, Dest, Pref, RoomScope, ShapeKind, SoftPlan, Stage, Subject};
 use super::realise::{self, Position, Speaker, sentence};
 use super::refs::{ObjRef, RoomRef};
@@ -23,7 +22,10 @@ use serde_json::{Value, json};
 use std::collections::BTreeMap;
 
 mod dest;
+mod scope;
 mod shape;
+
+use scope::{LegPhrase, StageDest};
 
 /// How the canonical trajectory of a `through` was made, in its annotation.
 const THROUGH_NOTES: &str = "generated: the language's `through` (free floor within 0.5 m of each object, in order), entered and left where the reference route enters and leaves the room, each region reached by the shortest path over the room's legal floor, the objects in the order of the shortest such trajectory";
@@ -126,6 +128,7 @@ impl<'a> Scene<'a> {
     ) -> GeneratedEpisode {
         let ix = &self.ix;
         let mut sp = Speaker::new(rng);
+        sp.reader.start = Some(start);
         let mut out = Out {
             sentences: vec![],
             clauses: vec![],
@@ -227,28 +230,39 @@ impl<'a> Scene<'a> {
                     "center": [round3(center[0]), round3(center[1])],
                 }));
             }
+            // The destination object a short name ("the desk") names by its category.
+            let named = match &stage.dest {
+                Dest::Object { id, .. } | Dest::Conditional { id, .. } => Some(*id),
+                _ => None,
+            };
             let leg_phrase = |sp: &mut Speaker<'_>| {
-                if back {
-                    realise::leg_back(sp)
+                let (text, names) = if back {
+                    (realise::leg_back(sp), None)
                 } else if matches!(stage.dest, Dest::Conditional { .. }) {
                     // Naming the target would give away which branch of the condition holds.
-                    realise::leg_there(sp)
+                    (realise::leg_there(sp), None)
                 } else if n > 1 {
-                    realise::leg(sp, short)
+                    (realise::leg(sp, short), named)
                 } else {
-                    sp.pick(
+                    let t = sp.pick(
                         "leg.only",
                         &["on the way there", "along the way", "on your way"],
-                    )
-                    .to_string()
-                }
+                    );
+                    (t.to_string(), None)
+                };
+                let read = self.leg_read(&sp.reader, names);
+                LegPhrase { text, names, read }
             };
             let mut body: Vec<String> = Vec::new();
             for avoid in &stage.avoids {
                 avoid_no += 1;
+                let before = sp.reader.clone();
                 let (t, m2r, kind) = self.avoid_text(&mut sp, &mut out, &avoid.place);
-                let l = leg_phrase(&mut sp);
-                let s = realise::avoid(&mut sp, kind, &t, Some(&l));
+                let mut l = leg_phrase(&mut sp);
+                // The sentence may open with the leg phrase: read it before the avoided place.
+                l.read = self.leg_read(&before, l.names);
+                self.check_leg(&mut sp, &l);
+                let s = realise::avoid(&mut sp, kind, &t, Some(&l.text));
                 out.say(&mut sp, s, format!("avoid {m2r}"));
                 out.hard.push(avoid_json(
                     ix,
@@ -268,7 +282,11 @@ impl<'a> Scene<'a> {
                     &mut out,
                     soft,
                     &var,
-                    (short, stage.room),
+                    StageDest {
+                        short,
+                        room: stage.room,
+                        named,
+                    },
                     order,
                     soft_no,
                     &l,
@@ -318,13 +336,15 @@ impl<'a> Scene<'a> {
         let ix = &self.ix;
         match place {
             AvoidPlace::Room(r) => {
-                let t = sp.room(ix, r);
+                let (t, _) = sp.room_said(ix, r, "must-avoid");
                 out.stat_room(ix, "must-avoid", r, &t);
                 (t, r.m2r(), "room")
             }
             AvoidPlace::Around(x) => {
-                let t = x.text(ix, sp);
+                let (t, read) = x.said(ix, sp);
                 out.stat(ix, "must-avoid", x, &t);
+                let gold = x.resolve(ix, sp.reader.start);
+                sp.reader.note("must-avoid", &t, gold, read);
                 (
                     t,
                     format!("area_near({}, within: {AROUND_M:.1}m)", x.m2r()),
@@ -332,7 +352,7 @@ impl<'a> Scene<'a> {
                 )
             }
             AvoidPlace::Between(a, b) => {
-                let (ta, tb) = ObjRef::pair_text(a, b, ix, sp);
+                let (ta, tb) = self.partners(sp, a, b);
                 out.stat(ix, "must-avoid", a, &ta);
                 out.stat(ix, "must-avoid", b, &tb);
                 (
@@ -340,109 +360,6 @@ impl<'a> Scene<'a> {
                     format!("area_between({}, {})", a.m2r(), b.m2r()),
                     "between",
                 )
-            }
-        }
-    }
-
-    /// The program expression and the words for a scope room R.
-    fn scope(
-        &self,
-        sp: &mut Speaker<'_>,
-        out: &mut Out,
-        soft: &SoftPlan,
-        var: &str,
-        (short, dest_room_id): (&str, u32),
-    ) -> (String, String) {
-        let ix = &self.ix;
-        // The destination's room (for `Before`, the room after R, not R itself).
-        let dest_room = |sp: &mut Speaker<'_>| {
-            if var == "start" {
-                "the room you started in".to_string()
-            } else if sp.knows_room(dest_room_id) {
-                sp.room_id(ix, dest_room_id, None)
-            } else {
-                let t = sp.pick("room.of", &["the room with {d}", "the room where {d} is"]);
-                realise::fill(t, &[("d", short)])
-            }
-        };
-        match &soft.scope {
-            RoomScope::Destination => {
-                let r = dest_room(sp);
-                let t = sp.pick(
-                    "scope.dest",
-                    &["once you are in {r}", "in {r}", "when you enter {r}"],
-                );
-                (format!("{var}.room()"), realise::fill(t, &[("r", &r)]))
-            }
-            RoomScope::Start => {
-                let t = sp.pick(
-                    "scope.start",
-                    &[
-                        "while you are still in the starting room",
-                        "before you leave the room you start in",
-                        "in the room you start in",
-                    ],
-                );
-                ("start.room()".into(), t.to_string())
-            }
-            RoomScope::Before => {
-                let r = dest_room(sp);
-                let t = sp.pick(
-                    "scope.before",
-                    &[
-                        "in the room just before {r}",
-                        "in the room right before you enter {r}",
-                    ],
-                );
-                (
-                    format!("room_before_entering({var}.room())"),
-                    realise::fill(t, &[("r", &r)]),
-                )
-            }
-            RoomScope::Crossed(rr) => {
-                let r = sp.room(ix, rr);
-                out.stat_room(ix, "scope", rr, &r);
-                let t = sp.pick(
-                    "scope.cross",
-                    &[
-                        "as you pass through {r}",
-                        "when you cross {r}",
-                        "while in {r}",
-                    ],
-                );
-                (rr.m2r(), realise::fill(t, &[("r", &r)]))
-            }
-        }
-    }
-
-    /// (text, program) of a preference subject measured in scope `s`.
-    fn subject_text(
-        &self,
-        sp: &mut Speaker<'_>,
-        out: &mut Out,
-        x: &Subject,
-        s: &str,
-        role: &str,
-    ) -> (String, String) {
-        let ix = &self.ix;
-        match x {
-            Subject::One(o, None) => {
-                let cat = &ix.object(*o).category;
-                let t = format!("the {}", sp.noun(cat));
-                out.stat_implied(ix, role, cat, &t);
-                (t, format!("objects({cat}).in({s}).only()"))
-            }
-            Subject::One(_, Some(d)) => {
-                let t = d.text(ix, sp);
-                out.stat(ix, role, d, &t);
-                (t, d.m2r())
-            }
-            Subject::All { cat, .. } => {
-                let p = lexicon::plural(&lexicon::plain(cat));
-                let t = sp.pick("all", &["the {p}", "all the {p}", "any of the {p}"]);
-                let t = realise::fill(t, &[("p", &p)]);
-                out.stat_implied(ix, role, cat, &t);
-                (t, format!("objects({cat}).in({s})"))
             }
         }
     }
@@ -455,10 +372,10 @@ impl<'a> Scene<'a> {
         out: &mut Out,
         soft: &SoftPlan,
         var: &str,
-        dest: (&str, u32),
+        dest: StageDest<'_>,
         order: u32,
         no: usize,
-        leg: &str,
+        leg: &LegPhrase,
         stages: usize,
     ) -> (Value, String) {
         let ix = &self.ix;
@@ -518,6 +435,7 @@ impl<'a> Scene<'a> {
                 }
             };
         sp.implied_room = None;
+        sp.reader.scope = None;
         let mut c = soft_base(no, kind, stage_scope(order), &label, ix, &soft.region);
         if let [one] = ids.as_slice() {
             c["object_ids"] = json!(one);
@@ -545,7 +463,8 @@ impl<'a> Scene<'a> {
         };
         let mut s = realise::fill(shape, &[("s", &s_text), ("p", &pref_text)]);
         if with_leg {
-            s = format!("{leg}, {s}");
+            self.check_leg(sp, leg);
+            s = format!("{}, {s}", leg.text);
         }
         let line = format!("prefer {pref_m2r} within {s_m2r}");
         out.say(sp, sentence(&s), line.clone());
@@ -603,6 +522,7 @@ impl<'a> Scene<'a> {
             room_transitions,
             reference_route_length_m: round3(length_cells * ix.resolution()),
             room_descriptions: sp.room_full.clone(),
+            determinacy: sp.reader.record.clone(),
             clauses: out.clauses,
         };
         let ordering = (1..=n_stages)

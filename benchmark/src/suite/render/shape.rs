@@ -21,7 +21,7 @@ impl Scene<'_> {
         soft: &SoftPlan,
         shape: &ShapePlan,
         var: &str,
-        leg: &str,
+        leg: &super::LegPhrase,
         (no, order): (usize, u32),
         label: &str,
         role: &str,
@@ -45,14 +45,19 @@ impl Scene<'_> {
                 let (o, desc) = shape.object.clone().expect("a circle has an object");
                 let (t, m2r) = match &desc {
                     Some(d) => {
-                        let t = d.text(ix, sp);
+                        let (t, read) = d.said(ix, sp);
                         out.stat(ix, role, d, &t);
+                        sp.reader.note("path-shape subject", &t, vec![o], read);
                         (t, d.m2r())
                     }
                     None => {
                         let cat = &ix.object(o).category;
                         let t = format!("the {}", sp.noun(cat));
                         out.stat_implied(ix, role, cat, &t);
+                        let read = sp.reader.bare(ix, cat);
+                        sp.reader
+                            .note("path-shape subject", &t, vec![o], read.clone());
+                        sp.reader.named_object(&read);
                         let room = self.room_expr(soft, var);
                         (t, format!("objects({cat}).in({room}).only()"))
                     }
@@ -62,7 +67,8 @@ impl Scene<'_> {
                     json!({"mode": "object", "object_id": o, "cells": footprints_json(ix, &[o])});
                 let s = realise::circle(sp, &t, shape.clockwise);
                 let s = if sp.chance(0.5) {
-                    format!("{leg}, {s}")
+                    self.check_leg(sp, leg);
+                    format!("{}, {s}", leg.text)
                 } else {
                     s
                 };
