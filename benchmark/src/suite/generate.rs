@@ -440,6 +440,12 @@ impl<'a> Scene<'a> {
             stages[k].softs.push(s);
         }
         let ep = self.render(rng, id, difficulty, start, stages, global_avoids, route);
+        // A plan whose instruction names anything the gold does not take (the realiser rewords
+        // what it can: a scope said, a room described again) is drawn again, never kept: it
+        // would score luck, not grounding.
+        if !ep.meta.determinacy.underdetermined.is_empty() {
+            return None;
+        }
         Some((missing, ep))
     }
 

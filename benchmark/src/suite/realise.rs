@@ -15,6 +15,9 @@ use rand::seq::IndexedRandom;
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeMap;
 
+/// Ways of referring back to a room described before (template `room.back.<i>`).
+const BACK_FORMS: [&str; 4] = ["that room", "the same {n}", "that {n}", "this {n}"];
+
 /// The episode's narrator: its RNG, and what it has said.
 pub struct Speaker<'r> {
     pub rng: &'r mut ChaCha8Rng,
@@ -22,6 +25,9 @@ pub struct Speaker<'r> {
     pub room_full: BTreeMap<u32, usize>,
     /// Anaphoric references per room id.
     pub room_back: BTreeMap<u32, usize>,
+    /// Descriptions given again per room id, where no "that room" would have named it (another
+    /// room of its kind was named since).
+    pub room_again: BTreeMap<u32, usize>,
     /// Template ids used, in order.
     pub templates: Vec<String>,
     /// The room a clause is already scoped to ("in this lounge, ..."): descriptions inside the
@@ -38,6 +44,7 @@ impl<'r> Speaker<'r> {
             rng,
             room_full: BTreeMap::new(),
             room_back: BTreeMap::new(),
+            room_again: BTreeMap::new(),
             templates: Vec::new(),
             implied_room: None,
             reader: Reader::default(),
@@ -92,29 +99,55 @@ impl<'r> Speaker<'r> {
         kind: &str,
     ) -> (String, Vec<u32>) {
         let cat = ix.room_category(id).to_string();
-        let (t, read) = match r.filter(|_| !self.knows_room(id)) {
+        // A room already described is referred back to by a form a reader resolves to it:
+        // "that room" is the room named last, "that bedroom" the bedroom named last. When none
+        // does (another bedroom was named since), the description is given again.
+        let fits = self.back_forms(ix, id);
+        let full = match r {
+            Some(r) if !self.knows_room(id) || fits.is_empty() => Some(r),
+            _ => None,
+        };
+        let (t, read) = match full {
             Some(r) => {
-                *self.room_full.entry(id).or_default() += 1;
+                if self.knows_room(id) {
+                    *self.room_again.entry(id).or_default() += 1;
+                } else {
+                    *self.room_full.entry(id).or_default() += 1;
+                }
                 (r.full_text(self.rng), r.resolve(ix))
             }
             None => {
                 *self.room_back.entry(id).or_default() += 1;
                 let n = lexicon::noun(&cat, self.rng);
-                let form = self.pick(
-                    "room.back",
-                    &["that room", "the same {n}", "that {n}", "this {n}"],
-                );
-                let read = if form.contains("{n}") {
-                    self.reader.back_room(ix, Some(&cat))
+                // Only a form that names the room; with none, any (the check flags it).
+                let pool: Vec<usize> = if fits.is_empty() {
+                    (0..BACK_FORMS.len()).collect()
                 } else {
-                    self.reader.back_room(ix, None)
+                    fits
                 };
+                let i = pool[self.rng.random_range(0..pool.len())];
+                self.templates.push(format!("room.back.{i}"));
+                let form = BACK_FORMS[i];
+                let read = self
+                    .reader
+                    .back_room(ix, form.contains("{n}").then_some(cat.as_str()));
                 (form.replace("{n}", &n), read)
             }
         };
         self.reader.note(kind, &t, vec![id], read.clone());
         self.reader.named_room(&read);
         (t, read)
+    }
+
+    /// The forms of [`BACK_FORMS`] (indices) a reader would resolve to room `id` now.
+    pub fn back_forms(&self, ix: &MapIndex<'_>, id: u32) -> Vec<usize> {
+        let cat = ix.room_category(id);
+        (0..BACK_FORMS.len())
+            .filter(|&i| {
+                let of = BACK_FORMS[i].contains("{n}").then_some(cat);
+                self.reader.back_room(ix, of) == [id]
+            })
+            .collect()
     }
 
     /// One of `options`, recording the template id `family.index`.

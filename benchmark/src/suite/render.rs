@@ -25,6 +25,7 @@ mod dest;
 mod scope;
 mod shape;
 
+use super::determinacy::Reader;
 use scope::{LegPhrase, StageDest};
 
 /// How the canonical trajectory of a `through` was made, in its annotation.
@@ -167,6 +168,25 @@ impl<'a> Scene<'a> {
             } else {
                 format!("t{}", k + 1)
             };
+            let pos = match (n, k) {
+                (1, _) => Position::Only,
+                (_, 0) => Position::First,
+                (n, k) if k + 1 == n => Position::Last,
+                _ => Position::Middle,
+            };
+            let pair = !skip_dest_sentence[k]
+                && k + 1 < n
+                && matches!(stage.dest, Dest::Object { .. })
+                && matches!(stages[k + 1].dest, Dest::Object { .. })
+                && stage.softs.is_empty()
+                && stage.avoids.is_empty()
+                && matches!(pos, Position::First | Position::Only)
+                && sp.chance(0.3);
+            if pair {
+                // "Before you go to B, stop at A": B is said (and read) first.
+                skip_dest_sentence[k + 1] = true;
+                dests[k + 1] = Some(self.dest_text(&mut sp, &mut out, k + 1, &stages));
+            }
             if dests[k].is_none() {
                 dests[k] = Some(self.dest_text(&mut sp, &mut out, k, &stages));
             }
@@ -176,25 +196,9 @@ impl<'a> Scene<'a> {
                 out.lets.push(format!("let {var} = {m2r}"));
             }
             if !skip_dest_sentence[k] {
-                let pos = match (n, k) {
-                    (1, _) => Position::Only,
-                    (_, 0) => Position::First,
-                    (n, k) if k + 1 == n => Position::Last,
-                    _ => Position::Middle,
-                };
-                let pair = k + 1 < n
-                    && matches!(stage.dest, Dest::Object { .. })
-                    && matches!(stages[k + 1].dest, Dest::Object { .. })
-                    && stage.softs.is_empty()
-                    && stage.avoids.is_empty()
-                    && matches!(pos, Position::First | Position::Only)
-                    && sp.chance(0.3);
                 let s = if pair {
-                    skip_dest_sentence[k + 1] = true;
-                    let next = self.dest_text(&mut sp, &mut out, k + 1, &stages);
-                    let s = realise::before_pair(&mut sp, text, &next.0);
-                    dests[k + 1] = Some(next);
-                    s
+                    let next = dests[k + 1].clone().unwrap_or_default();
+                    realise::before_pair(&mut sp, text, &next.0)
                 } else if matches!(stage.dest, Dest::Conditional { .. }) {
                     text.clone()
                 } else if back {
@@ -235,13 +239,30 @@ impl<'a> Scene<'a> {
                 Dest::Object { id, .. } | Dest::Conditional { id, .. } => Some(*id),
                 _ => None,
             };
-            let leg_phrase = |sp: &mut Speaker<'_>| {
+            // `before`: the reader where the phrase stands (it opens its sentence).
+            let leg_phrase = |sp: &mut Speaker<'_>, before: &Reader| {
+                let by_name = self.leg_read(before, named);
                 let (text, names) = if back {
                     (realise::leg_back(sp), None)
                 } else if matches!(stage.dest, Dest::Conditional { .. }) {
                     // Naming the target would give away which branch of the condition holds.
                     (realise::leg_there(sp), None)
+                } else if n > 1
+                    && (named.is_none() || by_name == named.into_iter().collect::<Vec<_>>())
+                {
+                    (realise::leg(sp, short), named)
+                } else if n > 1 && before.last_destination == named {
+                    // "The desk" would be another desk the instruction named: "there" is the
+                    // destination named last.
+                    let t = realise::leg_there(sp);
+                    let read = named.into_iter().collect();
+                    return LegPhrase {
+                        text: t,
+                        names: named,
+                        read,
+                    };
                 } else if n > 1 {
+                    // Neither names it: the check flags the mention and the plan is redrawn.
                     (realise::leg(sp, short), named)
                 } else {
                     let t = sp.pick(
@@ -250,7 +271,7 @@ impl<'a> Scene<'a> {
                     );
                     (t.to_string(), None)
                 };
-                let read = self.leg_read(&sp.reader, names);
+                let read = self.leg_read(before, names);
                 LegPhrase { text, names, read }
             };
             let mut body: Vec<String> = Vec::new();
@@ -258,9 +279,8 @@ impl<'a> Scene<'a> {
                 avoid_no += 1;
                 let before = sp.reader.clone();
                 let (t, m2r, kind) = self.avoid_text(&mut sp, &mut out, &avoid.place);
-                let mut l = leg_phrase(&mut sp);
                 // The sentence may open with the leg phrase: read it before the avoided place.
-                l.read = self.leg_read(&before, l.names);
+                let l = leg_phrase(&mut sp, &before);
                 self.check_leg(&mut sp, &l);
                 let s = realise::avoid(&mut sp, kind, &t, Some(&l.text));
                 out.say(&mut sp, s, format!("avoid {m2r}"));
@@ -276,7 +296,8 @@ impl<'a> Scene<'a> {
             for soft in &stage.softs {
                 soft_no += 1;
                 *out.soft_counts.entry(soft.kind().to_string()).or_default() += 1;
-                let l = leg_phrase(&mut sp);
+                let before = sp.reader.clone();
+                let l = leg_phrase(&mut sp, &before);
                 let (json, line) = self.soft(
                     &mut sp,
                     &mut out,
@@ -384,7 +405,18 @@ impl<'a> Scene<'a> {
         if let Pref::Shape(shape) = &soft.pref
             && shape.kind != ShapeKind::Through
         {
-            return self.loop_soft(sp, out, soft, shape, var, leg, (no, order), &label, &role);
+            return self.loop_soft(
+                sp,
+                out,
+                soft,
+                shape,
+                var,
+                dest,
+                leg,
+                (no, order),
+                &label,
+                &role,
+            );
         }
         let (s_m2r, s_text) = self.scope(sp, out, soft, var, dest);
         sp.implied_room = Some(soft.room);
@@ -469,15 +501,6 @@ impl<'a> Scene<'a> {
         let line = format!("prefer {pref_m2r} within {s_m2r}");
         out.say(sp, sentence(&s), line.clone());
         (c, line)
-    }
-
-    fn room_expr(&self, soft: &SoftPlan, var: &str) -> String {
-        match &soft.scope {
-            RoomScope::Destination => format!("{var}.room()"),
-            RoomScope::Start => "start.room()".into(),
-            RoomScope::Before => format!("room_before_entering({var}.room())"),
-            RoomScope::Crossed(rr) => rr.m2r(),
-        }
     }
 
     #[allow(clippy::too_many_arguments)]

@@ -76,3 +76,76 @@ fn that_room_is_the_room_named_last() {
     assert_eq!(counts.total_underdetermined(), 1);
     assert_eq!(KINDS.len(), counts.checked.len());
 }
+
+/// A circle around an object the plan names by its category alone (the only bed of its
+/// bedroom, one of three in the house): the realised sentence says the room it is scoped to, so
+/// "the bed" reads as that bed, and the episode records the mention as checked and determinate.
+/// Realised without the scope, as the generator once did ("circle the bed once clockwise"), the
+/// mention is underdetermined and this test fails.
+#[test]
+fn a_circled_object_named_by_category_is_said_with_its_room() {
+    use crate::suite::generate::{Difficulty, Scene};
+    use crate::suite::plan::{Dest, Pref, RoomScope, ShapeKind, ShapePlan, SoftPlan, Stage};
+    use crate::suite::refs::{ObjRef, room_descriptions};
+    use rand::SeedableRng;
+    let map = m2rc_stdlib::demo::demo_map().unwrap();
+    let scene = Scene::new(MapIndex::new(&map), "procthor/demo".into());
+    let ix = &scene.ix;
+    let fridge = ix.of_cat("fridge")[0];
+    let beds = ix.of_cat("bed").to_vec();
+    assert_eq!(beds.len(), 3);
+    let start = map.start.unwrap();
+    for (seed, &bed) in beds.iter().enumerate() {
+        let room = ix.object_room(bed).unwrap();
+        let rr = room_descriptions(ix, room, 2).into_iter().next().unwrap();
+        let circle = SoftPlan {
+            pref: Pref::Shape(Box::new(ShapePlan {
+                kind: ShapeKind::Circle,
+                object: Some((bed, None)),
+                via: vec![],
+                clockwise: true,
+                reference: vec![start, start],
+                area: vec![],
+                within_m: 1.0,
+            })),
+            room,
+            scope: RoomScope::Crossed(rr),
+            region: vec![],
+            passing: false,
+        };
+        let stage = Stage {
+            dest: Dest::Object {
+                id: fridge,
+                desc: ObjRef::Unique {
+                    cat: "fridge".into(),
+                },
+            },
+            anchor_objects: vec![fridge],
+            room: ix.object_room(fridge).unwrap(),
+            goal: vec![ix.free.index(start)],
+            center: [0.0, 0.0],
+            radius: 1.0,
+            avoids: vec![],
+            softs: vec![circle],
+        };
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed as u64);
+        let ep = scene.render(
+            &mut rng,
+            1,
+            Difficulty::Easy,
+            start,
+            vec![stage],
+            vec![],
+            vec![start],
+        );
+        let text = ep.instruction["instruction"].as_str().unwrap();
+        let d = &ep.meta.determinacy;
+        assert_eq!(d.checked["path-shape subject"], 1, "{text}");
+        assert!(
+            d.underdetermined.is_empty(),
+            "{text}: {:?}",
+            d.underdetermined
+        );
+        assert!(text.contains("bedroom"), "{text}");
+    }
+}

@@ -84,7 +84,7 @@ impl<'a> Scene<'a> {
                 sp.reader.note("room", &t, vec![dest.room], vec![dest.room]);
                 sp.reader.named_room(&[dest.room]);
                 (t, vec![dest.room])
-            } else if sp.knows_room(dest.room) {
+            } else if sp.knows_room(dest.room) && !sp.back_forms(ix, dest.room).is_empty() {
                 sp.room_id_said(ix, dest.room, None, "room")
             } else {
                 let t = sp.pick("room.of", &["the room with {d}", "the room where {d} is"]);

@@ -21,6 +21,7 @@ impl Scene<'_> {
         soft: &SoftPlan,
         shape: &ShapePlan,
         var: &str,
+        dest: super::StageDest<'_>,
         leg: &super::LegPhrase,
         (no, order): (usize, u32),
         label: &str,
@@ -43,6 +44,10 @@ impl Scene<'_> {
         let (text, line, kind) = match shape.kind {
             ShapeKind::Circle => {
                 let (o, desc) = shape.object.clone().expect("a circle has an object");
+                // Named by its category alone, the object is the one of the room the sentence
+                // is scoped to, which it then says ("in the living room, circle the dining
+                // table"): without it "the dining table" is any of the house's.
+                let mut scope_text = None;
                 let (t, m2r) = match &desc {
                     Some(d) => {
                         let (t, read) = d.said(ix, sp);
@@ -51,6 +56,8 @@ impl Scene<'_> {
                         (t, d.m2r())
                     }
                     None => {
+                        let (room, said) = self.scope(sp, out, soft, var, dest);
+                        scope_text = Some(said);
                         let cat = &ix.object(o).category;
                         let t = format!("the {}", sp.noun(cat));
                         out.stat_implied(ix, role, cat, &t);
@@ -58,7 +65,7 @@ impl Scene<'_> {
                         sp.reader
                             .note("path-shape subject", &t, vec![o], read.clone());
                         sp.reader.named_object(&read);
-                        let room = self.room_expr(soft, var);
+                        sp.reader.scope = None;
                         (t, format!("objects({cat}).in({room}).only()"))
                     }
                 };
@@ -66,7 +73,9 @@ impl Scene<'_> {
                 c["reference_region"] =
                     json!({"mode": "object", "object_id": o, "cells": footprints_json(ix, &[o])});
                 let s = realise::circle(sp, &t, shape.clockwise);
-                let s = if sp.chance(0.5) {
+                let s = if let Some(scope) = scope_text {
+                    format!("{scope}, {s}")
+                } else if sp.chance(0.5) {
                     self.check_leg(sp, leg);
                     format!("{}, {s}", leg.text)
                 } else {
