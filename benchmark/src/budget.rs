@@ -120,6 +120,12 @@ impl Meter {
         Box::new(Diagnostic::new(Code::BudgetExceeded, Span::default(), reason).help("the episode is recorded as `budget_exceeded`; raise the budget (`--episode-max-expansions`, `--episode-max-product-mb`, `--episode-max-seconds`) if the program is meant to be this large"))
     }
 
+    /// Ends the episode for `reason` (a program past the size limits of `crate::limits`, whose
+    /// plans the per-plan budgets would not bound: they are per segment).
+    pub fn refuse(&self, reason: String) -> Box<Diagnostic> {
+        self.over(reason)
+    }
+
     /// Before a phase: an error once any part of the budget is spent.
     pub fn check(&self) -> Result<(), Box<Diagnostic>> {
         if let Some(r) = self.exceeded() {

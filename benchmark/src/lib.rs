@@ -10,6 +10,7 @@ pub mod methods;
 pub mod metrics;
 pub mod pipeline;
 mod pipeline_ltl;
+pub mod plan_failure;
 pub mod report;
 pub mod route;
 pub mod route_read;

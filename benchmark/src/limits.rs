@@ -1,6 +1,8 @@
 //! Size limits on what users and models hand the compiler, documented in `docs/benchmark.md`
 //! ("Limits"): past them an input is refused with a message instead of being compiled in
-//! unbounded time and memory. Route files are limited in [`crate::route::MAX_ROUTE_POINTS`].
+//! unbounded time and memory. Route files are limited in [`crate::route::MAX_ROUTE_POINTS`] and
+//! [`crate::route_read::MAX_ROUTE_FILE_BYTES`]; a model's reply to the same program size in
+//! `m2rc_llm::wire::MAX_REPLY_BYTES`; an episode's compiling and planning in [`crate::budget`].
 
 use m2rc_grammar::ast::{Item, RouteItem};
 
@@ -42,6 +44,11 @@ pub fn check_program_size(source: &str) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_model_reply_is_held_to_the_program_limit() {
+        assert_eq!(m2rc_llm::wire::MAX_REPLY_BYTES, MAX_PROGRAM_BYTES);
+    }
 
     #[test]
     fn programs_past_the_limits_are_refused() {

@@ -8,6 +8,7 @@
 //! both the compiler and the planner, because it needs both; `m2rc compile` and the benchmark's
 //! oracle method call it.
 
+use crate::plan_failure::FailedPlan;
 use m2rc_compiler::check::check;
 use m2rc_compiler::diagnostic::{Code, Diagnostic, Severity};
 use m2rc_compiler::eval::{GroundOptions, ground_checked};
@@ -67,6 +68,23 @@ pub struct CompiledRoute {
     pub ltl: Option<m2rc_compiler::ltl::LtlRoute>,
 }
 
+/// Why a program did not compile: every diagnostic, and, when planning failed, the failed plan
+/// (for its picture: `m2rc compile --png` draws it).
+#[derive(Clone, Debug)]
+pub struct CompileFailure {
+    pub diagnostics: Vec<Diagnostic>,
+    pub plan: Option<Box<FailedPlan>>,
+}
+
+impl From<Vec<Diagnostic>> for CompileFailure {
+    fn from(diagnostics: Vec<Diagnostic>) -> Self {
+        CompileFailure {
+            diagnostics,
+            plan: None,
+        }
+    }
+}
+
 /// Compiles `source` on `map` into a planned route, or every diagnostic that prevents it.
 ///
 /// Builds the map's planning context when the program gets as far as planning; callers that
@@ -77,6 +95,15 @@ pub fn compile_and_plan(
     map: &SemanticMap,
     opts: &PipelineOptions,
 ) -> Result<CompiledRoute, Vec<Diagnostic>> {
+    compile(source, map, None, opts).map_err(|f| f.diagnostics)
+}
+
+/// [`compile_and_plan`], keeping the failed plan when planning is what failed.
+pub fn compile_and_plan_explained(
+    source: &str,
+    map: &SemanticMap,
+    opts: &PipelineOptions,
+) -> Result<CompiledRoute, CompileFailure> {
     compile(source, map, None, opts)
 }
 
@@ -88,7 +115,7 @@ pub fn compile_and_plan_with(
     ctx: &MapContext,
     opts: &PipelineOptions,
 ) -> Result<CompiledRoute, Vec<Diagnostic>> {
-    compile(source, map, Some(ctx), opts)
+    compile(source, map, Some(ctx), opts).map_err(|f| f.diagnostics)
 }
 
 fn compile(
@@ -96,9 +123,11 @@ fn compile(
     map: &SemanticMap,
     shared: Option<&MapContext>,
     opts: &PipelineOptions,
-) -> Result<CompiledRoute, Vec<Diagnostic>> {
+) -> Result<CompiledRoute, CompileFailure> {
     if let Some(m) = &opts.meter {
         m.check().map_err(|d| vec![*d])?;
+        // A model's program is held to the limits a user's is (`m2rc check`, `compile`).
+        crate::limits::check_program_size(source).map_err(|why| vec![*m.refuse(why)])?;
     }
     let vocab = Vocabulary::from_map(map);
     let checked = check(source, &vocab);
@@ -109,7 +138,7 @@ fn compile(
         .cloned()
         .collect();
     if checked.has_errors() {
-        return Err(checked.diagnostics);
+        return Err(checked.diagnostics.into());
     }
     if let Some(d) = m2rc_compiler::ltl::program::desugar(&checked.program, source) {
         let owned;
@@ -125,7 +154,8 @@ fn compile(
                 &owned
             }
         };
-        return crate::pipeline_ltl::compile_ltl(&checked, d, source, map, ctx, opts, warnings);
+        return crate::pipeline_ltl::compile_ltl(&checked, d, source, map, ctx, opts, warnings)
+            .map_err(CompileFailure::from);
     }
     let q = MapQuery::new(map);
     let mut route: Option<Vec<Cell>> = None;
@@ -149,11 +179,11 @@ fn compile(
             .collect();
         let mut ir = match g.ir {
             Some(ir) if !diags.iter().any(Diagnostic::is_error) => ir,
-            _ => return Err(with_warnings(diags, &warnings)),
+            _ => return Err(with_warnings(diags, &warnings).into()),
         };
         diags.extend(verify(&ir, &q).into_iter().map(|p| p.into_diagnostic()));
         if diags.iter().any(Diagnostic::is_error) {
-            return Err(with_warnings(diags, &warnings));
+            return Err(with_warnings(diags, &warnings).into());
         }
         merge(&mut warnings, diags);
         if let Some(t) = opts.transform {
@@ -221,12 +251,25 @@ fn compile(
             })
         });
         if !planned.is_success() {
-            // A search cut short by the episode's budget is reported as that.
-            let why = match spent {
-                Some(Err(d)) => *d,
-                _ => plan_failure(&ir, &planned),
-            };
-            return Err(with_warnings(vec![why], &warnings));
+            // A search cut short by the episode's budget is reported as that, with no picture
+            // of a failed plan (nothing in the map cut the way).
+            if let Some(Err(d)) = spent {
+                return Err(with_warnings(vec![*d], &warnings).into());
+            }
+            let failed = planned.failure.as_ref().map(|f| {
+                Box::new(FailedPlan::new(
+                    &ir,
+                    f,
+                    planned.trajectory.clone(),
+                    &q,
+                    opts.profile.goal_radius_m,
+                ))
+            });
+            let diag = plan_failure(&ir, &planned, failed.as_deref());
+            return Err(CompileFailure {
+                diagnostics: with_warnings(vec![diag], &warnings),
+                plan: failed,
+            });
         }
         if ir.route_bindings.is_empty() {
             return Ok(CompiledRoute {
@@ -263,8 +306,9 @@ fn with_warnings(mut diags: Vec<Diagnostic>, warnings: &[Diagnostic]) -> Vec<Dia
     diags
 }
 
-/// A planning failure as a diagnostic pointing at the stage (and the avoid regions) responsible.
-fn plan_failure(ir: &RouteIr, planned: &PlannedRoute) -> Diagnostic {
+/// A planning failure as a diagnostic pointing at the stage (and the avoid regions) responsible,
+/// with why the target is cut off when the map says.
+fn plan_failure(ir: &RouteIr, planned: &PlannedRoute, failed: Option<&FailedPlan>) -> Diagnostic {
     let Some(f) = &planned.failure else {
         return Diagnostic::new(Code::TargetUnreachable, Span::default(), "planning failed");
     };
@@ -275,6 +319,9 @@ fn plan_failure(ir: &RouteIr, planned: &PlannedRoute) -> Diagnostic {
         .map_or(Span::default(), |s| s.span());
     let mut d = Diagnostic::new(code, span, f.to_string());
     d.severity = Severity::Error;
+    if let Some(why) = failed.and_then(|p| p.why.as_ref()) {
+        d = d.note(why.clone());
+    }
     for o in f.forbids() {
         if let Some(s) = span_of(ir, *o) {
             d = d.label(s.span(), "this avoid region blocks the way");

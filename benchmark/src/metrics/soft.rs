@@ -377,7 +377,7 @@ pub(crate) struct PathReference {
     pub file: Option<String>,
 }
 
-fn path_reference(
+pub(crate) fn path_reference(
     index: usize,
     c: &SoftConstraint,
     episode: &Episode,

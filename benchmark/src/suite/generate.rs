@@ -96,6 +96,10 @@ pub struct EpisodeMeta {
     /// The instruction's clauses, each traced to the template(s) and program statement.
     #[serde(default)]
     pub clauses: Vec<Clause>,
+    /// Every mention read back as written: how many were checked, and those whose words do not
+    /// pick out the gold's object ([`super::determinacy`]).
+    #[serde(default)]
+    pub determinacy: super::determinacy::Determinacy,
 }
 
 pub struct GeneratedEpisode {
@@ -436,6 +440,12 @@ impl<'a> Scene<'a> {
             stages[k].softs.push(s);
         }
         let ep = self.render(rng, id, difficulty, start, stages, global_avoids, route);
+        // A plan whose instruction names anything the gold does not take (the realiser rewords
+        // what it can: a scope said, a room described again) is drawn again, never kept: it
+        // would score luck, not grounding.
+        if !ep.meta.determinacy.underdetermined.is_empty() {
+            return None;
+        }
         Some((missing, ep))
     }
 

@@ -16,6 +16,7 @@
 pub mod annotate;
 pub mod avoid;
 pub mod dest;
+pub mod determinacy;
 pub mod generate;
 pub mod houses;
 pub mod index;

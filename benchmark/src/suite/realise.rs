@@ -6,6 +6,7 @@
 //! episode has described: a room is described in full once and referred back to afterwards
 //! ("that room", "the same bedroom"), which the naturalness counters check.
 
+use super::determinacy::Reader;
 use super::index::MapIndex;
 use super::lexicon;
 use super::refs::RoomRef;
@@ -14,6 +15,9 @@ use rand::seq::IndexedRandom;
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeMap;
 
+/// Ways of referring back to a room described before (template `room.back.<i>`).
+const BACK_FORMS: [&str; 4] = ["that room", "the same {n}", "that {n}", "this {n}"];
+
 /// The episode's narrator: its RNG, and what it has said.
 pub struct Speaker<'r> {
     pub rng: &'r mut ChaCha8Rng,
@@ -21,11 +25,17 @@ pub struct Speaker<'r> {
     pub room_full: BTreeMap<u32, usize>,
     /// Anaphoric references per room id.
     pub room_back: BTreeMap<u32, usize>,
+    /// Descriptions given again per room id, where no "that room" would have named it (another
+    /// room of its kind was named since).
+    pub room_again: BTreeMap<u32, usize>,
     /// Template ids used, in order.
     pub templates: Vec<String>,
     /// The room a clause is already scoped to ("in this lounge, ..."): descriptions inside the
     /// clause leave it out rather than name it a second time.
     pub implied_room: Option<u32>,
+    /// The episode read back as it is written, to check that every mention names the gold's
+    /// object ([`super::determinacy`]).
+    pub reader: Reader,
 }
 
 impl<'r> Speaker<'r> {
@@ -34,8 +44,10 @@ impl<'r> Speaker<'r> {
             rng,
             room_full: BTreeMap::new(),
             room_back: BTreeMap::new(),
+            room_again: BTreeMap::new(),
             templates: Vec::new(),
             implied_room: None,
+            reader: Reader::default(),
         }
     }
 
@@ -56,27 +68,86 @@ impl<'r> Speaker<'r> {
 
     /// A room: described in full the first time, referred back to afterwards.
     pub fn room(&mut self, ix: &MapIndex<'_>, r: &RoomRef) -> String {
+        self.room_said(ix, r, "room").0
+    }
+
+    /// [`Self::room`], and the rooms a reader takes the words for, checked as a mention of
+    /// `kind` against the room `r` describes.
+    pub fn room_said(&mut self, ix: &MapIndex<'_>, r: &RoomRef, kind: &str) -> (String, Vec<u32>) {
         match r.resolve(ix).as_slice() {
-            [id] => self.room_id(ix, *id, Some(r)),
-            _ => r.full_text(self.rng),
+            [id] => self.room_id_said(ix, *id, Some(r), kind),
+            _ => {
+                let t = r.full_text(self.rng);
+                let read = r.resolve(ix);
+                self.reader.note(kind, &t, read.clone(), read.clone());
+                (t, read)
+            }
         }
     }
 
     /// Room `id` by its description `r` (or, when none, by its category).
     pub fn room_id(&mut self, ix: &MapIndex<'_>, id: u32, r: Option<&RoomRef>) -> String {
+        self.room_id_said(ix, id, r, "room").0
+    }
+
+    /// [`Self::room_id`], and what a reader takes the words for.
+    pub fn room_id_said(
+        &mut self,
+        ix: &MapIndex<'_>,
+        id: u32,
+        r: Option<&RoomRef>,
+        kind: &str,
+    ) -> (String, Vec<u32>) {
         let cat = ix.room_category(id).to_string();
-        if self.knows_room(id) || r.is_none() {
-            *self.room_back.entry(id).or_default() += 1;
-            let n = lexicon::noun(&cat, self.rng);
-            return self
-                .pick(
-                    "room.back",
-                    &["that room", "the same {n}", "that {n}", "this {n}"],
-                )
-                .replace("{n}", &n);
-        }
-        *self.room_full.entry(id).or_default() += 1;
-        r.map(|r| r.full_text(self.rng)).unwrap_or_default()
+        // A room already described is referred back to by a form a reader resolves to it:
+        // "that room" is the room named last, "that bedroom" the bedroom named last. When none
+        // does (another bedroom was named since), the description is given again.
+        let fits = self.back_forms(ix, id);
+        let full = match r {
+            Some(r) if !self.knows_room(id) || fits.is_empty() => Some(r),
+            _ => None,
+        };
+        let (t, read) = match full {
+            Some(r) => {
+                if self.knows_room(id) {
+                    *self.room_again.entry(id).or_default() += 1;
+                } else {
+                    *self.room_full.entry(id).or_default() += 1;
+                }
+                (r.full_text(self.rng), r.resolve(ix))
+            }
+            None => {
+                *self.room_back.entry(id).or_default() += 1;
+                let n = lexicon::noun(&cat, self.rng);
+                // Only a form that names the room; with none, any (the check flags it).
+                let pool: Vec<usize> = if fits.is_empty() {
+                    (0..BACK_FORMS.len()).collect()
+                } else {
+                    fits
+                };
+                let i = pool[self.rng.random_range(0..pool.len())];
+                self.templates.push(format!("room.back.{i}"));
+                let form = BACK_FORMS[i];
+                let read = self
+                    .reader
+                    .back_room(ix, form.contains("{n}").then_some(cat.as_str()));
+                (form.replace("{n}", &n), read)
+            }
+        };
+        self.reader.note(kind, &t, vec![id], read.clone());
+        self.reader.named_room(&read);
+        (t, read)
+    }
+
+    /// The forms of [`BACK_FORMS`] (indices) a reader would resolve to room `id` now.
+    pub fn back_forms(&self, ix: &MapIndex<'_>, id: u32) -> Vec<usize> {
+        let cat = ix.room_category(id);
+        (0..BACK_FORMS.len())
+            .filter(|&i| {
+                let of = BACK_FORMS[i].contains("{n}").then_some(cat);
+                self.reader.back_room(ix, of) == [id]
+            })
+            .collect()
     }
 
     /// One of `options`, recording the template id `family.index`.

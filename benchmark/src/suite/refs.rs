@@ -1,8 +1,8 @@
 //! Referring expressions: descriptions of one object or room that single it out on a map.
 //!
 //! A description is a small tree (category, room, parent, anchor, the robot) rendered twice, once
-//! as English (through a [`Speaker`], which remembers what the episode has already described) and
-//! once as a `.m2r` expression with the language's existing built-ins, so the instruction and its
+//! as English (through a [`super::realise::Speaker`], which remembers what the episode has
+//! already described; `refs/say.rs`) and once as a `.m2r` expression with the language's existing built-ins, so the instruction and its
 //! gold program cannot drift apart. Each description is resolved here with the plain map
 //! semantics before it is kept, and the compiler resolves the gold program again as the validity
 //! check.
@@ -18,9 +18,7 @@
 
 use super::index::MapIndex;
 use super::lexicon::{self, number_word, plural};
-use super::realise::Speaker;
 use m2rc_stdlib::grid::Cell;
-use rand::Rng;
 use rand::seq::IndexedRandom;
 use rand_chacha::ChaCha8Rng;
 use std::collections::HashMap;
@@ -255,25 +253,7 @@ impl ObjRef {
         }
     }
 
-    /// "The sink in this bathroom and the toilet": the second of two objects described in the
-    /// same room leaves the room out, as a person would.
-    pub fn pair_text(
-        a: &ObjRef,
-        b: &ObjRef,
-        ix: &MapIndex<'_>,
-        sp: &mut Speaker<'_>,
-    ) -> (String, String) {
-        let ta = a.text(ix, sp);
-        let outer = sp.implied_room;
-        if let Some(r) = a.stated_room(ix).filter(|&r| b.stated_room(ix) == Some(r)) {
-            sp.implied_room = Some(r);
-        }
-        let tb = b.text(ix, sp);
-        sp.implied_room = outer;
-        (ta, tb)
-    }
-
-    fn room(&self) -> Option<&RoomRef> {
+    pub(crate) fn room(&self) -> Option<&RoomRef> {
         match self {
             ObjRef::InRoom { room, .. } => Some(room),
             ObjRef::Nearest { room, .. }
@@ -350,95 +330,6 @@ impl ObjRef {
         }
     }
 
-    /// The description as English. Rooms the episode has already described are referred back
-    /// to ("that bedroom") rather than described again.
-    pub fn text(&self, ix: &MapIndex<'_>, sp: &mut Speaker<'_>) -> String {
-        match self {
-            ObjRef::Unique { cat } => format!("the {}", sp.noun(cat)),
-            ObjRef::InRoom { cat, room } if sp.is_implied(ix, room) => {
-                format!("the {}", sp.noun(cat))
-            }
-            ObjRef::InRoom { cat, room } => {
-                let n = sp.noun(cat);
-                let prep = ["in", "in", "inside"]
-                    .choose(sp.rng)
-                    .copied()
-                    .unwrap_or("in");
-                let r = sp.room(ix, room);
-                format!("the {n} {prep} {r}")
-            }
-            ObjRef::On { cat, parent } => {
-                let n = sp.noun(cat);
-                let prep = ["on", "sitting on", "on top of"]
-                    .choose(sp.rng)
-                    .copied()
-                    .unwrap_or("on");
-                let p = parent.text(ix, sp);
-                format!("the {n} {prep} {p}")
-            }
-            ObjRef::Nearest { cat, room, anchor } => {
-                let n = sp.noun(cat);
-                let rel = ["nearest to", "closest to", "nearest the"]
-                    .choose(sp.rng)
-                    .copied()
-                    .unwrap_or("nearest to");
-                let rel = if rel == "nearest the" { "nearest" } else { rel };
-                let a = anchor.text(ix, sp);
-                match room.as_ref().filter(|r| !sp.is_implied(ix, r)) {
-                    Some(room) => {
-                        let r = sp.room(ix, room);
-                        if sp.rng.random_bool(0.5) {
-                            format!("the {n} in {r} {rel} {a}")
-                        } else {
-                            format!("the {n} {rel} {a} in {r}")
-                        }
-                    }
-                    None => format!("the {n} {rel} {a}"),
-                }
-            }
-            ObjRef::FromYou {
-                cat,
-                room,
-                farthest,
-            } => {
-                let n = sp.noun(cat);
-                let rel = if *farthest {
-                    [
-                        "farthest from you",
-                        "farthest from where you start",
-                        "farthest from your current position",
-                    ]
-                } else {
-                    [
-                        "closest to you",
-                        "nearest to where you are now",
-                        "closest to your starting position",
-                    ]
-                };
-                let rel = rel.choose(sp.rng).copied().unwrap_or(rel[0]);
-                // Kept even inside a scoped clause: "the chair closest to you" alone would be
-                // read house-wide.
-                match room {
-                    Some(room) => {
-                        let r = sp.room(ix, room);
-                        format!("the {n} in {r} {rel}")
-                    }
-                    None => format!("the {n} {rel}"),
-                }
-            }
-            ObjRef::NotOn { cat, room, other } => {
-                let n = sp.noun(cat);
-                let o = sp.noun(other);
-                let art = lexicon::article(&o);
-                let tail = match room.as_ref().filter(|r| !sp.is_implied(ix, r)) {
-                    Some(room) => format!(" in {}", sp.room(ix, room)),
-                    None => String::new(),
-                };
-                format!("the {n}{tail} that is not on {art} {o}")
-            }
-        }
-    }
-
     /// The objects this description matches on the map (robot-relative ones need `start`).
     pub fn resolve(&self, ix: &MapIndex<'_>, start: Option<Cell>) -> Vec<u32> {
         let in_rooms = |cat: &str, room: &Option<RoomRef>| -> Vec<u32> {
@@ -496,7 +387,7 @@ impl ObjRef {
 }
 
 /// The member of `pool` nearest to `anchor`, if it wins clearly under both distance definitions.
-fn nearest_with_margin(ix: &MapIndex<'_>, pool: &[u32], anchor: u32) -> Option<u32> {
+pub(crate) fn nearest_with_margin(ix: &MapIndex<'_>, pool: &[u32], anchor: u32) -> Option<u32> {
     let pool: Vec<u32> = pool.iter().copied().filter(|&o| o != anchor).collect();
     let a = best_by(&pool, &|o| ix.center_distance(o, anchor), false)?;
     let b = best_by(&pool, &|o| ix.footprint_distance(o, anchor), false)?;
@@ -504,7 +395,7 @@ fn nearest_with_margin(ix: &MapIndex<'_>, pool: &[u32], anchor: u32) -> Option<u
 }
 
 /// The member of `pool` nearest to (farthest from) the start cell, with the same margin.
-fn ranked_from(ix: &MapIndex<'_>, pool: &[u32], s: Cell, farthest: bool) -> Option<u32> {
+pub(crate) fn ranked_from(ix: &MapIndex<'_>, pool: &[u32], s: Cell, farthest: bool) -> Option<u32> {
     let centre = |o: u32| {
         let c = ix.object(o).center;
         (c[0] - s.row as f64).hypot(c[1] - s.col as f64)
@@ -761,5 +652,6 @@ pub fn pick_description(descs: &[ObjRef], want: u32, rng: &mut ChaCha8Rng) -> Op
     close.choose(rng).map(|d| (*d).clone())
 }
 
+mod say;
 #[cfg(test)]
 mod tests;

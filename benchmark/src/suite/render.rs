@@ -12,7 +12,6 @@ use super::generate::{
     room_traversal,
 };
 use super::index::MapIndex;
-use super::lexicon;
 use super::plan::{AvoidPlace, Dest, Pref, RoomScope, ShapeKind, SoftPlan, Stage, Subject};
 use super::realise::{self, Position, Speaker, sentence};
 use super::refs::{ObjRef, RoomRef};
@@ -23,7 +22,11 @@ use serde_json::{Value, json};
 use std::collections::BTreeMap;
 
 mod dest;
+mod scope;
 mod shape;
+
+use super::determinacy::Reader;
+use scope::{LegPhrase, StageDest};
 
 /// How the canonical trajectory of a `through` was made, in its annotation.
 const THROUGH_NOTES: &str = "generated: the language's `through` (free floor within 0.5 m of each object, in order), entered and left where the reference route enters and leaves the room, each region reached by the shortest path over the room's legal floor, the objects in the order of the shortest such trajectory";
@@ -126,6 +129,7 @@ impl<'a> Scene<'a> {
     ) -> GeneratedEpisode {
         let ix = &self.ix;
         let mut sp = Speaker::new(rng);
+        sp.reader.start = Some(start);
         let mut out = Out {
             sentences: vec![],
             clauses: vec![],
@@ -164,6 +168,25 @@ impl<'a> Scene<'a> {
             } else {
                 format!("t{}", k + 1)
             };
+            let pos = match (n, k) {
+                (1, _) => Position::Only,
+                (_, 0) => Position::First,
+                (n, k) if k + 1 == n => Position::Last,
+                _ => Position::Middle,
+            };
+            let pair = !skip_dest_sentence[k]
+                && k + 1 < n
+                && matches!(stage.dest, Dest::Object { .. })
+                && matches!(stages[k + 1].dest, Dest::Object { .. })
+                && stage.softs.is_empty()
+                && stage.avoids.is_empty()
+                && matches!(pos, Position::First | Position::Only)
+                && sp.chance(0.3);
+            if pair {
+                // "Before you go to B, stop at A": B is said (and read) first.
+                skip_dest_sentence[k + 1] = true;
+                dests[k + 1] = Some(self.dest_text(&mut sp, &mut out, k + 1, &stages));
+            }
             if dests[k].is_none() {
                 dests[k] = Some(self.dest_text(&mut sp, &mut out, k, &stages));
             }
@@ -173,25 +196,9 @@ impl<'a> Scene<'a> {
                 out.lets.push(format!("let {var} = {m2r}"));
             }
             if !skip_dest_sentence[k] {
-                let pos = match (n, k) {
-                    (1, _) => Position::Only,
-                    (_, 0) => Position::First,
-                    (n, k) if k + 1 == n => Position::Last,
-                    _ => Position::Middle,
-                };
-                let pair = k + 1 < n
-                    && matches!(stage.dest, Dest::Object { .. })
-                    && matches!(stages[k + 1].dest, Dest::Object { .. })
-                    && stage.softs.is_empty()
-                    && stage.avoids.is_empty()
-                    && matches!(pos, Position::First | Position::Only)
-                    && sp.chance(0.3);
                 let s = if pair {
-                    skip_dest_sentence[k + 1] = true;
-                    let next = self.dest_text(&mut sp, &mut out, k + 1, &stages);
-                    let s = realise::before_pair(&mut sp, text, &next.0);
-                    dests[k + 1] = Some(next);
-                    s
+                    let next = dests[k + 1].clone().unwrap_or_default();
+                    realise::before_pair(&mut sp, text, &next.0)
                 } else if matches!(stage.dest, Dest::Conditional { .. }) {
                     text.clone()
                 } else if back {
@@ -227,28 +234,55 @@ impl<'a> Scene<'a> {
                     "center": [round3(center[0]), round3(center[1])],
                 }));
             }
-            let leg_phrase = |sp: &mut Speaker<'_>| {
-                if back {
-                    realise::leg_back(sp)
+            // The destination object a short name ("the desk") names by its category.
+            let named = match &stage.dest {
+                Dest::Object { id, .. } | Dest::Conditional { id, .. } => Some(*id),
+                _ => None,
+            };
+            // `before`: the reader where the phrase stands (it opens its sentence).
+            let leg_phrase = |sp: &mut Speaker<'_>, before: &Reader| {
+                let by_name = self.leg_read(before, named);
+                let (text, names) = if back {
+                    (realise::leg_back(sp), None)
                 } else if matches!(stage.dest, Dest::Conditional { .. }) {
                     // Naming the target would give away which branch of the condition holds.
-                    realise::leg_there(sp)
+                    (realise::leg_there(sp), None)
+                } else if n > 1
+                    && (named.is_none() || by_name == named.into_iter().collect::<Vec<_>>())
+                {
+                    (realise::leg(sp, short), named)
+                } else if n > 1 && before.last_destination == named {
+                    // "The desk" would be another desk the instruction named: "there" is the
+                    // destination named last.
+                    let t = realise::leg_there(sp);
+                    let read = named.into_iter().collect();
+                    return LegPhrase {
+                        text: t,
+                        names: named,
+                        read,
+                    };
                 } else if n > 1 {
-                    realise::leg(sp, short)
+                    // Neither names it: the check flags the mention and the plan is redrawn.
+                    (realise::leg(sp, short), named)
                 } else {
-                    sp.pick(
+                    let t = sp.pick(
                         "leg.only",
                         &["on the way there", "along the way", "on your way"],
-                    )
-                    .to_string()
-                }
+                    );
+                    (t.to_string(), None)
+                };
+                let read = self.leg_read(before, names);
+                LegPhrase { text, names, read }
             };
             let mut body: Vec<String> = Vec::new();
             for avoid in &stage.avoids {
                 avoid_no += 1;
+                let before = sp.reader.clone();
                 let (t, m2r, kind) = self.avoid_text(&mut sp, &mut out, &avoid.place);
-                let l = leg_phrase(&mut sp);
-                let s = realise::avoid(&mut sp, kind, &t, Some(&l));
+                // The sentence may open with the leg phrase: read it before the avoided place.
+                let l = leg_phrase(&mut sp, &before);
+                self.check_leg(&mut sp, &l);
+                let s = realise::avoid(&mut sp, kind, &t, Some(&l.text));
                 out.say(&mut sp, s, format!("avoid {m2r}"));
                 out.hard.push(avoid_json(
                     ix,
@@ -262,13 +296,18 @@ impl<'a> Scene<'a> {
             for soft in &stage.softs {
                 soft_no += 1;
                 *out.soft_counts.entry(soft.kind().to_string()).or_default() += 1;
-                let l = leg_phrase(&mut sp);
+                let before = sp.reader.clone();
+                let l = leg_phrase(&mut sp, &before);
                 let (json, line) = self.soft(
                     &mut sp,
                     &mut out,
                     soft,
                     &var,
-                    (short, stage.room),
+                    StageDest {
+                        short,
+                        room: stage.room,
+                        named,
+                    },
                     order,
                     soft_no,
                     &l,
@@ -318,13 +357,15 @@ impl<'a> Scene<'a> {
         let ix = &self.ix;
         match place {
             AvoidPlace::Room(r) => {
-                let t = sp.room(ix, r);
+                let (t, _) = sp.room_said(ix, r, "must-avoid");
                 out.stat_room(ix, "must-avoid", r, &t);
                 (t, r.m2r(), "room")
             }
             AvoidPlace::Around(x) => {
-                let t = x.text(ix, sp);
+                let (t, read) = x.said(ix, sp);
                 out.stat(ix, "must-avoid", x, &t);
+                let gold = x.resolve(ix, sp.reader.start);
+                sp.reader.note("must-avoid", &t, gold, read);
                 (
                     t,
                     format!("area_near({}, within: {AROUND_M:.1}m)", x.m2r()),
@@ -332,7 +373,7 @@ impl<'a> Scene<'a> {
                 )
             }
             AvoidPlace::Between(a, b) => {
-                let (ta, tb) = ObjRef::pair_text(a, b, ix, sp);
+                let (ta, tb) = self.partners(sp, a, b);
                 out.stat(ix, "must-avoid", a, &ta);
                 out.stat(ix, "must-avoid", b, &tb);
                 (
@@ -340,109 +381,6 @@ impl<'a> Scene<'a> {
                     format!("area_between({}, {})", a.m2r(), b.m2r()),
                     "between",
                 )
-            }
-        }
-    }
-
-    /// The program expression and the words for a scope room R.
-    fn scope(
-        &self,
-        sp: &mut Speaker<'_>,
-        out: &mut Out,
-        soft: &SoftPlan,
-        var: &str,
-        (short, dest_room_id): (&str, u32),
-    ) -> (String, String) {
-        let ix = &self.ix;
-        // The destination's room (for `Before`, the room after R, not R itself).
-        let dest_room = |sp: &mut Speaker<'_>| {
-            if var == "start" {
-                "the room you started in".to_string()
-            } else if sp.knows_room(dest_room_id) {
-                sp.room_id(ix, dest_room_id, None)
-            } else {
-                let t = sp.pick("room.of", &["the room with {d}", "the room where {d} is"]);
-                realise::fill(t, &[("d", short)])
-            }
-        };
-        match &soft.scope {
-            RoomScope::Destination => {
-                let r = dest_room(sp);
-                let t = sp.pick(
-                    "scope.dest",
-                    &["once you are in {r}", "in {r}", "when you enter {r}"],
-                );
-                (format!("{var}.room()"), realise::fill(t, &[("r", &r)]))
-            }
-            RoomScope::Start => {
-                let t = sp.pick(
-                    "scope.start",
-                    &[
-                        "while you are still in the starting room",
-                        "before you leave the room you start in",
-                        "in the room you start in",
-                    ],
-                );
-                ("start.room()".into(), t.to_string())
-            }
-            RoomScope::Before => {
-                let r = dest_room(sp);
-                let t = sp.pick(
-                    "scope.before",
-                    &[
-                        "in the room just before {r}",
-                        "in the room right before you enter {r}",
-                    ],
-                );
-                (
-                    format!("room_before_entering({var}.room())"),
-                    realise::fill(t, &[("r", &r)]),
-                )
-            }
-            RoomScope::Crossed(rr) => {
-                let r = sp.room(ix, rr);
-                out.stat_room(ix, "scope", rr, &r);
-                let t = sp.pick(
-                    "scope.cross",
-                    &[
-                        "as you pass through {r}",
-                        "when you cross {r}",
-                        "while in {r}",
-                    ],
-                );
-                (rr.m2r(), realise::fill(t, &[("r", &r)]))
-            }
-        }
-    }
-
-    /// (text, program) of a preference subject measured in scope `s`.
-    fn subject_text(
-        &self,
-        sp: &mut Speaker<'_>,
-        out: &mut Out,
-        x: &Subject,
-        s: &str,
-        role: &str,
-    ) -> (String, String) {
-        let ix = &self.ix;
-        match x {
-            Subject::One(o, None) => {
-                let cat = &ix.object(*o).category;
-                let t = format!("the {}", sp.noun(cat));
-                out.stat_implied(ix, role, cat, &t);
-                (t, format!("objects({cat}).in({s}).only()"))
-            }
-            Subject::One(_, Some(d)) => {
-                let t = d.text(ix, sp);
-                out.stat(ix, role, d, &t);
-                (t, d.m2r())
-            }
-            Subject::All { cat, .. } => {
-                let p = lexicon::plural(&lexicon::plain(cat));
-                let t = sp.pick("all", &["the {p}", "all the {p}", "any of the {p}"]);
-                let t = realise::fill(t, &[("p", &p)]);
-                out.stat_implied(ix, role, cat, &t);
-                (t, format!("objects({cat}).in({s})"))
             }
         }
     }
@@ -455,19 +393,35 @@ impl<'a> Scene<'a> {
         out: &mut Out,
         soft: &SoftPlan,
         var: &str,
-        dest: (&str, u32),
+        dest: StageDest<'_>,
         order: u32,
         no: usize,
-        leg: &str,
+        leg: &LegPhrase,
         stages: usize,
     ) -> (Value, String) {
         let ix = &self.ix;
         let role = format!("{} preference", soft.kind());
-        let label = format!("{} in room {}", soft.kind(), soft.room);
+        // The map's own room name, as the pictures and `m2rc compile` name rooms.
+        let room = ix.map.room(soft.room).map_or_else(
+            || format!("room {}", soft.room),
+            m2rc_compiler::eval::room_name,
+        );
+        let label = format!("{} in {room}", soft.kind());
         if let Pref::Shape(shape) = &soft.pref
             && shape.kind != ShapeKind::Through
         {
-            return self.loop_soft(sp, out, soft, shape, var, leg, (no, order), &label, &role);
+            return self.loop_soft(
+                sp,
+                out,
+                soft,
+                shape,
+                var,
+                dest,
+                leg,
+                (no, order),
+                &label,
+                &role,
+            );
         }
         let (s_m2r, s_text) = self.scope(sp, out, soft, var, dest);
         sp.implied_room = Some(soft.room);
@@ -518,6 +472,7 @@ impl<'a> Scene<'a> {
                 }
             };
         sp.implied_room = None;
+        sp.reader.scope = None;
         let mut c = soft_base(no, kind, stage_scope(order), &label, ix, &soft.region);
         if let [one] = ids.as_slice() {
             c["object_ids"] = json!(one);
@@ -545,20 +500,12 @@ impl<'a> Scene<'a> {
         };
         let mut s = realise::fill(shape, &[("s", &s_text), ("p", &pref_text)]);
         if with_leg {
-            s = format!("{leg}, {s}");
+            self.check_leg(sp, leg);
+            s = format!("{}, {s}", leg.text);
         }
         let line = format!("prefer {pref_m2r} within {s_m2r}");
         out.say(sp, sentence(&s), line.clone());
         (c, line)
-    }
-
-    fn room_expr(&self, soft: &SoftPlan, var: &str) -> String {
-        match &soft.scope {
-            RoomScope::Destination => format!("{var}.room()"),
-            RoomScope::Start => "start.room()".into(),
-            RoomScope::Before => format!("room_before_entering({var}.room())"),
-            RoomScope::Crossed(rr) => rr.m2r(),
-        }
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -603,6 +550,7 @@ impl<'a> Scene<'a> {
             room_transitions,
             reference_route_length_m: round3(length_cells * ix.resolution()),
             room_descriptions: sp.room_full.clone(),
+            determinacy: sp.reader.record.clone(),
             clauses: out.clauses,
         };
         let ordering = (1..=n_stages)

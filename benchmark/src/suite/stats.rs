@@ -4,6 +4,7 @@
 //! beside the paper's value and the ratio ([`super::paper`]), and the naturalness counters
 //! ([`super::naturalness`]).
 
+use super::determinacy::{Counts, Determinacy, KINDS, count_by_kind};
 use super::naturalness::Naturalness;
 use super::paper::{AXES, TOLERANCE};
 use super::{SuiteError, SuiteManifest};
@@ -64,6 +65,9 @@ pub struct SplitStats {
     /// Length of the reference (shortest legal) route, metres.
     pub reference_route_length_m: Summary,
     pub naturalness: Naturalness,
+    /// Mentions whose words, read in their sentence's context, do not pick out the gold's
+    /// object, by kind (target 0), beside the mentions checked.
+    pub underdetermined_mentions: Counts,
 }
 
 impl SplitStats {
@@ -220,6 +224,7 @@ struct Acc {
     soft_by_type: BTreeMap<String, usize>,
     length: Vec<f64>,
     naturalness: Naturalness,
+    determinacy: Vec<Determinacy>,
 }
 
 impl Acc {
@@ -242,6 +247,12 @@ impl Acc {
         }
         self.naturalness.add(generation);
         self.naturalness.add_soft(ep.get("soft_constraints"));
+        if let Some(d) = generation
+            .and_then(|g| g.get("determinacy"))
+            .and_then(|d| serde_json::from_value::<Determinacy>(d.clone()).ok())
+        {
+            self.determinacy.push(d);
+        }
         let refs = generation
             .and_then(|g| g.get("references"))
             .and_then(Value::as_array)
@@ -323,6 +334,7 @@ impl Acc {
             soft_by_type: self.soft_by_type.clone(),
             reference_route_length_m: Summary::of(&self.length),
             naturalness: self.naturalness.clone(),
+            underdetermined_mentions: count_by_kind(self.determinacy.iter()),
         }
     }
 }
@@ -492,6 +504,10 @@ pub fn stats_markdown(s: &SuiteStats) -> String {
     ] {
         out.push_str(&format!("| {name} | {a} | {b} |\n"));
     }
+    out.push_str(&determinacy_markdown(
+        &s.easy.underdetermined_mentions,
+        &s.hard.underdetermined_mentions,
+    ));
     let hist = |h: &BTreeMap<usize, usize>| {
         h.iter()
             .map(|(k, v)| format!("{k}:{v}"))
@@ -507,6 +523,36 @@ pub fn stats_markdown(s: &SuiteStats) -> String {
         "Soft constraints incl. clearance per episode: easy {}; hard {}.\n",
         hist(&s.easy.soft_including_clearance_hist),
         hist(&s.hard.soft_including_clearance_hist)
+    ));
+    out
+}
+
+/// The underdetermined-mention counter: by kind, Easy and Hard, with the mentions checked.
+fn determinacy_markdown(e: &Counts, h: &Counts) -> String {
+    let mut out = String::from(
+        "\n## Underdetermined mentions (should all be 0)\n\nA mention is underdetermined when its words, read in the context its sentence gives, do not pick out the gold's object.\n\n",
+    );
+    if e.total_checked() + h.total_checked() == 0 {
+        out.push_str("This suite records no mention checks (built before the check existed).\n");
+        return out;
+    }
+    out.push_str("| kind | Easy | checked | Hard | checked |\n|---|---:|---:|---:|---:|\n");
+    let n = |m: &BTreeMap<String, usize>, k: &str| m.get(k).copied().unwrap_or(0);
+    for k in KINDS {
+        out.push_str(&format!(
+            "| {k} | {} | {} | {} | {} |\n",
+            n(&e.underdetermined, k),
+            n(&e.checked, k),
+            n(&h.underdetermined, k),
+            n(&h.checked, k)
+        ));
+    }
+    out.push_str(&format!(
+        "| all | {} | {} | {} | {} |\n",
+        e.total_underdetermined(),
+        e.total_checked(),
+        h.total_underdetermined(),
+        h.total_checked()
     ));
     out
 }

@@ -68,3 +68,31 @@ fn plans_share_the_episode_work_budget() {
         diags[0].message
     );
 }
+
+#[test]
+fn a_program_past_the_size_limits_ends_the_episode() {
+    let map = m2rc_stdlib::demo::demo_map().unwrap();
+    let many = format!(
+        "route {{\n{}}}\n",
+        "  go objects(bed).nearest(start)\n".repeat(201)
+    );
+    let meter = Arc::new(Meter::new(EpisodeBudget::default()));
+    let opts = PipelineOptions {
+        meter: Some(meter.clone()),
+        ..PipelineOptions::default()
+    };
+    let diags = compile_and_plan(&many, &map, &opts).unwrap_err();
+    assert_eq!(diags[0].code, Code::BudgetExceeded);
+    assert!(
+        diags[0].message.contains("201 stages"),
+        "{}",
+        diags[0].message
+    );
+    assert_eq!(meter.expansions(), 0, "nothing was planned");
+    assert!(
+        meter
+            .exceeded()
+            .unwrap()
+            .contains("more than the limit of 200")
+    );
+}

@@ -2,6 +2,7 @@
 //! Linking the workspace once instead of once per file is most of a fresh build's time.
 
 mod budget;
+mod episode_png;
 mod eval_props;
 mod formats_doc;
 mod grounding2route;

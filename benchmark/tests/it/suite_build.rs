@@ -75,6 +75,18 @@ fn builds_a_small_suite_from_real_houses() {
     let md = m2rc_benchmark::suite::stats::stats_markdown(&stats);
     assert!(md.contains("| words per instruction |") && md.contains("circular references"));
     assert!(md.contains("| preference subjects named like a destination | 0 | 0 |"));
+    // Every mention was read back as written (the counter of underdetermined ones is shown).
+    let checked = stats.easy.underdetermined_mentions.total_checked()
+        + stats.hard.underdetermined_mentions.total_checked();
+    assert!(checked > 0, "no mention checked");
+    // ... and none names anything but the gold's object (a circled "the dining table" in a house
+    // of three, with no room said, is one).
+    for split in [&stats.easy, &stats.hard] {
+        let d = &split.underdetermined_mentions;
+        assert_eq!(d.total_underdetermined(), 0, "{:?}", d.underdetermined);
+    }
+    assert!(md.contains("| path-shape subject | 0 |"), "{md}");
+    assert!(md.contains("## Underdetermined mentions") && md.contains("| path-shape subject |"));
     // Every scene has walls, which outnumber every other category.
     let head = &stats.uniform_head_candidates;
     assert!(head.without_building_parts >= 1.0, "{head:?}");

@@ -8,7 +8,9 @@ use crate::io::{display_name, read_to_string, unusable, write_atomic};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use m2rc_benchmark::episode::Episode;
-use m2rc_benchmark::pipeline::{CompiledRoute, PipelineOptions, compile_and_plan, stage_ends};
+use m2rc_benchmark::pipeline::{
+    CompileFailure, CompiledRoute, PipelineOptions, compile_and_plan_explained, stage_ends,
+};
 use m2rc_compiler::diagnostic::{Diagnostic, render_text, to_json};
 use m2rc_compiler::ir::{ConstraintKind, Direction, RouteIr, Shape, StageScope};
 use m2rc_planner::PlannerKind;
@@ -42,9 +44,15 @@ pub struct CompileArgs {
     /// (JSON, HOA, Graphviz); without `-o` they go to stdout.
     #[arg(long, value_enum, default_value_t = Emit::Route)]
     pub emit: Emit,
-    /// Draw the route over the map into this PNG.
+    /// Draw the route over the map into this PNG. When planning fails, the picture shows the
+    /// failed plan instead (the avoided regions, the target, the start, the blocking doorway)
+    /// and the command still exits with 1.
     #[arg(long)]
     pub png: Option<PathBuf>,
+    /// With --png: write the category of each piece of furniture on the picture (as
+    /// `map render --labels` does).
+    #[arg(long, requires = "png")]
+    pub labels: bool,
     /// Route planner: sequential (stage by stage, the default), global (all stages at once) or
     /// shortest (ignore preferences). An LTL route (`route ltl "..."`) is always planned by the
     /// LTL planner.
@@ -235,10 +243,13 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         start,
         ..PipelineOptions::default()
     };
-    let compiled = match compile_and_plan(&source, &map, &opts) {
+    let compiled = match compile_and_plan_explained(&source, &map, &opts) {
         Ok(c) => c,
-        Err(diags) => {
-            print_diagnostics(&diags, &file_name, &source, args.format);
+        Err(failure) => {
+            print_diagnostics(&failure.diagnostics, &file_name, &source, args.format);
+            if let Some(path) = &args.png {
+                failed_png(path, &map, &failure, args.labels)?;
+            }
             return Ok(ExitCode::FAILURE);
         }
     };
@@ -265,9 +276,15 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     };
     let png = match &args.png {
         Some(_) => Some(
-            render_map(&shown_map(&map, &compiled), &render_options(&compiled))
-                .context("cannot render the route")?
-                .png,
+            render_map(
+                &shown_map(&map, &compiled),
+                &RenderOptions {
+                    labels: args.labels,
+                    ..render_options(&compiled)
+                },
+            )
+            .context("cannot render the route")?
+            .png,
         ),
         None => None,
     };
@@ -309,6 +326,42 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The picture of a failed plan (`--png` on a program that does not compile); a program that
+/// failed before planning has no plan to draw, and the user is told so.
+fn failed_png(
+    path: &Path,
+    map: &SemanticMap,
+    failure: &CompileFailure,
+    labels: bool,
+) -> Result<()> {
+    let Some(plan) = &failure.plan else {
+        eprintln!(
+            "note: {} not written: the program failed before planning, so there is no plan to draw",
+            path.display()
+        );
+        return Ok(());
+    };
+    let code = failure
+        .diagnostics
+        .iter()
+        .find(|d| d.is_error())
+        .map_or("E0705", |d| d.code.id());
+    let mut shown = map.clone();
+    if let Some(&s) = plan.route_so_far.first() {
+        shown.start = Some(s);
+    }
+    let opts = RenderOptions {
+        labels,
+        ..plan.render_options(code)
+    };
+    let png = render_map(&shown, &opts)
+        .context("cannot render the failed plan")?
+        .png;
+    write_atomic(path, &png)?;
+    eprintln!("note: drew the failed plan in {}", path.display());
+    Ok(())
 }
 
 /// The map as the picture shows it: its start is where the route starts (the episode's or
@@ -634,7 +687,8 @@ mod tests {
         let path = format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"));
         let source = std::fs::read_to_string(path).unwrap();
         let map = m2rc_stdlib::demo::demo_map().unwrap();
-        compile_and_plan(&source, &map, &PipelineOptions::default()).unwrap()
+        m2rc_benchmark::pipeline::compile_and_plan(&source, &map, &PipelineOptions::default())
+            .unwrap()
     }
 
     /// Labels a user reads: the map's room names, scopes named by what they scope, the

@@ -48,6 +48,7 @@ pub fn run(a: CheckArgs) -> Result<ExitCode> {
     let opts = super::map::load_options(&a.grid, db.as_ref());
     check(&a, &staged.arg, &opts)
 }
+
 #[derive(Default)]
 struct Totals {
     houses: usize,

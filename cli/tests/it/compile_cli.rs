@@ -1,6 +1,7 @@
 //! `m2rc compile` as a user runs it: the route file, the RouteIR and the picture on success; on a
 //! program that fails on the map (grounding or planning), exit 1 with diagnostics and not one byte
-//! written to any output path, so an earlier good result is never replaced by a partial one.
+//! of route written, so an earlier good result is never replaced by a partial one. The one output
+//! a failure writes is the one asked for to see it: `--png` draws a plan that failed.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -147,8 +148,13 @@ fn writes_route_ir_and_picture() {
 }
 
 /// Compiles `source` over existing outputs and checks that it fails with `code` and leaves them
-/// exactly as they were (and creates no new file in the directory).
+/// exactly as they were (and creates no new file in the directory); with `draws`, the picture is
+/// the exception: it shows the failed plan.
 fn fails_without_touching_outputs(source: &str, code: &str) {
+    fails_leaving_the_route_alone(source, code, false);
+}
+
+fn fails_leaving_the_route_alone(source: &str, code: &str, draws: bool) {
     let dir = tempfile::tempdir().unwrap();
     let prog = write_program(dir.path(), "bad.m2r", source);
     std::fs::write(dir.path().join("route.json"), b"earlier result").unwrap();
@@ -196,10 +202,20 @@ fn fails_without_touching_outputs(source: &str, code: &str) {
             std::fs::read(dir.path().join("route.json")).unwrap(),
             b"earlier result"
         );
-        assert_eq!(
-            std::fs::read(dir.path().join("route.png")).unwrap(),
-            b"earlier picture"
-        );
+        if draws {
+            let png = decode_png(&dir.path().join("route.png"));
+            assert!(png.width() >= 500, "the failed plan is drawn");
+            assert!(
+                run.stderr.contains("drew the failed plan"),
+                "{}",
+                run.stderr
+            );
+        } else {
+            assert_eq!(
+                std::fs::read(dir.path().join("route.png")).unwrap(),
+                b"earlier picture"
+            );
+        }
         assert_eq!(listing(dir.path()), before, "no temporary file left behind");
     }
 }
@@ -214,12 +230,87 @@ fn ambiguous_reference_fails_at_grounding_and_writes_nothing() {
 }
 
 #[test]
-fn target_cut_off_by_avoids_fails_at_planning_and_writes_nothing() {
+fn target_cut_off_by_avoids_fails_at_planning_and_draws_only_the_picture() {
     // Avoiding every doorway of the toilet's room leaves no way in.
-    fails_without_touching_outputs(
+    fails_leaving_the_route_alone(
         "// map: demo\nlet t = objects(toilet).nearest(start)\nroute {\n  avoid t.room().doorways()\n  go t\n}\n",
         "E0706",
+        true,
     );
+}
+
+/// The demo's smallest bedroom opens only into the kitchen: avoiding the kitchen cuts it off.
+const CUT_OFF: &str = "// map: demo\n\
+                       let small = rooms(bedroom).smallest()\n\
+                       route {\n  go objects(sofa).only()\n  go objects(bed).in(small).only()\n  \
+                       avoid rooms(kitchen).only()\n}\n";
+
+/// E0706 numbers stages as the summary does, says which avoided region cuts the way through
+/// which doorway, and the picture shows the failed plan: the avoided kitchen, the unreachable
+/// bed, the blocked door (with `--labels`, furniture names too).
+#[test]
+fn a_failed_plan_says_why_and_is_drawn() {
+    let dir = tempfile::tempdir().unwrap();
+    let prog = write_program(dir.path(), "cut.m2r", CUT_OFF);
+    let run = m2rc(
+        &[
+            "compile",
+            prog.to_str().unwrap(),
+            "--png",
+            "failed.png",
+            "--labels",
+        ],
+        dir.path(),
+    );
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("the destination of stage 2 is unreachable without entering a region"),
+        "{}",
+        run.stderr
+    );
+    assert!(!run.stderr.contains("stage 0"), "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("bedroom_3's only door opens into the avoided kitchen_1"),
+        "{}",
+        run.stderr
+    );
+    let png = decode_png(&dir.path().join("failed.png"));
+    // The blocked doorway's outline is drawn in its own dark red.
+    assert!(
+        count_color(&png, (0x8b, 0x00, 0x00)) > 20,
+        "no blocked doorway drawn"
+    );
+}
+
+/// `--labels` writes furniture categories on the picture, as `map render --labels` does.
+#[test]
+fn compile_png_takes_labels() {
+    let dir = tempfile::tempdir().unwrap();
+    let prog = write_program(dir.path(), "good.m2r", GOOD);
+    let p = prog.to_str().unwrap();
+    let plain = m2rc(&["compile", p, "--png", "plain.png"], dir.path());
+    assert_eq!(plain.code, Some(0), "{}", plain.stderr);
+    let labelled = m2rc(
+        &["compile", p, "--png", "labels.png", "--labels"],
+        dir.path(),
+    );
+    assert_eq!(labelled.code, Some(0), "{}", labelled.stderr);
+    let (a, b) = (
+        decode_png(&dir.path().join("plain.png")),
+        decode_png(&dir.path().join("labels.png")),
+    );
+    assert_eq!((a.width(), a.height()), (b.width(), b.height()));
+    let differ = a
+        .pixels()
+        .iter()
+        .zip(b.pixels())
+        .filter(|(x, y)| x != y)
+        .count();
+    assert!(differ > 500, "the labels are drawn: {differ} pixels differ");
+    let run = m2rc(&["compile", p, "--labels"], dir.path());
+    assert_eq!(run.code, Some(2), "--labels needs --png: {}", run.stderr);
 }
 
 #[test]

@@ -8,7 +8,8 @@
 //! grounding, `E06xx` verification, `E07xx` planning), with a fresh number, a `Severity`, a title
 //! that completes "error: ...", and a small example program. Never renumber or reuse a code:
 //! users and tools match on them. Then regenerate the docs with
-//! `UPDATE_DOCS=1 cargo test -p m2rc-compiler diagnostics_doc`.
+//! `UPDATE_DOCS=1 cargo test -p m2rc-tests --test it docs::`. An example of a code from `E0500`
+//! on runs on the built-in demo house (the doc shows what `m2rc compile --map demo` prints).
 
 use super::Severity;
 use serde::{Serialize, Serializer};
@@ -238,7 +239,7 @@ codes! {
         "route { go objects(tv).nearest() }";
 
     EmptySelection = "E0501", Error, "selection has no candidate on this map",
-        "";
+        "let can = objects(garbage_can).in(rooms(bathroom).smallest()).only()\nroute { go can }";
     AmbiguousSelection = "E0502", Error, "selection has several candidates on this map",
         "";
     EmptyRanking = "E0503", Error, "ranking of an empty selection",
@@ -293,7 +294,7 @@ codes! {
     PlanUnreachable = "E0705", Error, "stage target is unreachable",
         "";
     UnreachableUnderAvoids = "E0706", Error, "stage target is unreachable under the active avoids",
-        "";
+        "let small = rooms(bedroom).smallest()\nroute {\n  go objects(bed).in(small).only()\n  avoid rooms(kitchen).only()\n}";
     BudgetExceeded = "E0707", Error, "search budget exhausted",
         "";
     InvalidPlanProblem = "E0708", Error, "invalid planning problem",

@@ -24,7 +24,7 @@ mod value;
 
 pub use problem::{Level, Problem};
 pub use shapes::THROUGH_REACH_M;
-pub use value::{PlaceVal, Pref, Region, Value, WallFollow};
+pub use value::{PlaceVal, Pref, Region, Value, WallFollow, room_name};
 
 use crate::check::{CheckResult, Resolution};
 use crate::ir::{Construction, RouteBinding, RouteIr};

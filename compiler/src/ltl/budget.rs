@@ -12,7 +12,7 @@ use super::dfa::BuildError;
 
 /// Steps the construction may take: a fraction of a second of a development build, a few tens of
 /// megabytes at most. A route's formula needs far fewer (four ordered visits, two avoids and an
-/// until over 8 atoms: about 110 000; nine unordered visits, 512 states: 7.6 million; ten
+/// until over 8 atoms: about 14 000; nine unordered visits, 512 states: 7.6 million; ten
 /// unordered visits pass the limit). `m2rc ltl --bench 1` prints what a formula takes.
 pub const MAX_WORK: u64 = 20_000_000;
 /// Guard cubes (edges before merging) of the unminimised automaton: what its edges hold in

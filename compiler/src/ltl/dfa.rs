@@ -274,7 +274,7 @@ fn dnf_now(a: &Arena, now: &Now, b: &mut Budget) -> Result<Terms, BuildError> {
         Now::And(c) => {
             let mut acc: Terms = vec![vec![]];
             for p in c {
-                acc = product(acc, dnf_now(a, p, b)?, b)?;
+                acc = product(a, acc, dnf_now(a, p, b)?, b)?;
             }
             Ok(acc)
         }
@@ -283,7 +283,7 @@ fn dnf_now(a: &Arena, now: &Now, b: &mut Budget) -> Result<Terms, BuildError> {
             for p in c {
                 acc.extend(dnf_now(a, p, b)?);
             }
-            minimal(acc, b)
+            minimal(a, acc, b)
         }
     }
 }
@@ -296,7 +296,7 @@ fn dnf_id(a: &Arena, id: Id, b: &mut Budget) -> Result<Terms, BuildError> {
         Node::And(c) => {
             let mut acc: Terms = vec![vec![]];
             for &p in c {
-                acc = product(acc, dnf_id(a, p, b)?, b)?;
+                acc = product(a, acc, dnf_id(a, p, b)?, b)?;
             }
             Ok(acc)
         }
@@ -305,7 +305,7 @@ fn dnf_id(a: &Arena, id: Id, b: &mut Budget) -> Result<Terms, BuildError> {
             for &p in c {
                 acc.extend(dnf_id(a, p, b)?);
             }
-            minimal(acc, b)
+            minimal(a, acc, b)
         }
         _ => Ok(vec![vec![id]]),
     }
@@ -319,7 +319,7 @@ fn too_many_terms(b: &Budget) -> BuildError {
     }
 }
 
-fn product(xs: Terms, ys: Terms, b: &mut Budget) -> Result<Terms, BuildError> {
+fn product(a: &Arena, xs: Terms, ys: Terms, b: &mut Budget) -> Result<Terms, BuildError> {
     if xs.len().saturating_mul(ys.len()) > MAX_TERMS * 4 {
         return Err(too_many_terms(b));
     }
@@ -333,29 +333,107 @@ fn product(xs: Terms, ys: Terms, b: &mut Budget) -> Result<Terms, BuildError> {
             out.push(t);
         }
     }
-    minimal(out, b)
+    minimal(a, out, b)
 }
 
-/// Sorted terms without duplicates and without any term that contains another (absorption).
-fn minimal(mut terms: Terms, b: &mut Budget) -> Result<Terms, BuildError> {
+/// Sorted terms without duplicates and without any term that implies another (absorption: `t | k`
+/// is `k` when `t` implies `k`). Implication is read syntactically: `t` implies `k` when each
+/// conjunct of `k` is a conjunct of `t` or, for an eventuality, implied by one ([`reaches`]).
+/// The second case is what keeps a chain of visits linear: after entering `b` in
+/// `F(b & F(k & F(b & ...)))` the state is `F(k & F(b & ...)) | F(b & F(k & F(b & ...)))`, whose
+/// second term implies the first; without it, every state would keep every earlier position.
+fn minimal(a: &Arena, mut terms: Terms, b: &mut Budget) -> Result<Terms, BuildError> {
     b.spend(terms.len() as u64)?;
     terms.sort_by(|x, y| x.len().cmp(&y.len()).then_with(|| x.cmp(y)));
     terms.dedup();
     let mut keep: Terms = Vec::with_capacity(terms.len());
     for t in terms {
         b.spend(1 + keep.len() as u64)?;
-        let absorbed = keep
-            .iter()
-            .any(|k| k.iter().all(|x| t.binary_search(x).is_ok()));
-        if !absorbed {
-            keep.push(t);
+        let mut absorbed = false;
+        for k in &keep {
+            if term_implies(a, &t, k, b)? {
+                absorbed = true;
+                break;
+            }
         }
+        if absorbed {
+            continue;
+        }
+        let mut kept = Vec::with_capacity(keep.len() + 1);
+        for k in keep {
+            if !term_implies(a, &k, &t, b)? {
+                kept.push(k);
+            }
+        }
+        kept.push(t);
+        keep = kept;
     }
     if keep.len() > MAX_TERMS {
         return Err(too_many_terms(b));
     }
     keep.sort();
     Ok(keep)
+}
+
+/// Whether the conjunction `t` implies the conjunction `k`, on every suffix, the empty one
+/// included.
+fn term_implies(a: &Arena, t: &[Id], k: &[Id], b: &mut Budget) -> Result<bool, BuildError> {
+    b.spend((t.len() * k.len()) as u64)?;
+    'each: for &x in k {
+        if t.binary_search(&x).is_ok() {
+            continue;
+        }
+        if matches!(a.node(x), Node::Eventually(_)) {
+            for &y in t {
+                // `F α` implies `F β` when α implies `F β` wherever it holds; both are false on
+                // the empty suffix.
+                if let Node::Eventually(alpha) = *a.node(y)
+                    && reaches(a, alpha, x, b)?
+                {
+                    continue 'each;
+                }
+            }
+        }
+        return Ok(false);
+    }
+    Ok(true)
+}
+
+/// Whether `p`, holding at a position of the route, implies the eventuality `x` = `F β` there: `p`
+/// is `x` or `β`, or requires something later that does (`F q`, `q'  U q`, `X q`), or is a
+/// conjunction with such a conjunct, or a disjunction of such parts.
+fn reaches(a: &Arena, p: Id, x: Id, b: &mut Budget) -> Result<bool, BuildError> {
+    b.spend(1)?;
+    let Node::Eventually(beta) = *a.node(x) else {
+        return Ok(false);
+    };
+    if p == x || p == beta {
+        return Ok(true);
+    }
+    Ok(match a.node(p) {
+        Node::Eventually(q) | Node::Until(_, q) | Node::Next(q) => reaches(a, *q, x, b)?,
+        Node::And(c) => {
+            let mut any = false;
+            for &q in c {
+                if reaches(a, q, x, b)? {
+                    any = true;
+                    break;
+                }
+            }
+            any
+        }
+        Node::Or(c) => {
+            let mut all = !c.is_empty();
+            for &q in c {
+                if !reaches(a, q, x, b)? {
+                    all = false;
+                    break;
+                }
+            }
+            all
+        }
+        _ => false,
+    })
 }
 
 /// Shannon expansion of `now` below `cube`: one leaf per cube of the state's guards, each with

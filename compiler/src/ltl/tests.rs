@@ -185,3 +185,29 @@ fn the_budget_is_deterministic() {
     ));
     assert_eq!(used(spent).unwrap().0, states);
 }
+
+/// A chain of visits that returns to the same two places (`--planner ltl` on 200 alternating
+/// stages) stays linear: each state keeps only the weakest of the positions it could be at, so
+/// the automaton is built within the budget, one state per visit.
+#[test]
+fn long_chain_over_two_places_is_linear() {
+    use super::{Skeleton, Visit};
+    let names: Vec<String> = ["b", "k"].map(String::from).to_vec();
+    let sk = Skeleton {
+        visits: (0..200)
+            .map(|i| Visit {
+                atom: i % 2,
+                avoids: vec![],
+            })
+            .collect(),
+        global_avoids: vec![],
+    };
+    let f = sk.formula(&names);
+    let raw = super::Dfa::build(&f, &names, false).unwrap();
+    assert_eq!(raw.states(), 201);
+    let d = super::Dfa::build(&f, &names, true).unwrap();
+    assert_eq!(d.states(), 201);
+    let trace: Vec<u64> = (0..200).map(|i| 1u64 << (i % 2)).collect();
+    assert!(d.accepts(&trace));
+    assert!(!d.accepts(&trace[..199]));
+}

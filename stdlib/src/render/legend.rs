@@ -20,6 +20,8 @@ enum Swatch {
         dash: Option<&'static str>,
     },
     Line(String),
+    /// A thin dashed line: a reference route.
+    Dashed(String),
     Dot(String),
     Marker,
 }
@@ -38,6 +40,9 @@ const ROW: f64 = 20.0;
 const HEAD: f64 = 22.0;
 const SWATCH_W: f64 = 22.0;
 const TEXT_SIZE: f64 = 12.0;
+/// Labelled regions listed one by one; past this the rest are counted, so a path shape's many
+/// waypoints do not make the legend taller than the picture needs.
+const MAX_REGION_ENTRIES: usize = 16;
 
 fn fill(c: &str) -> Swatch {
     Swatch::Fill {
@@ -153,6 +158,7 @@ impl Legend {
         let colors = overlay::line_colors(&opts.overlays);
         let mut route_no = 0;
         let mut kinds: BTreeSet<RegionKind> = BTreeSet::new();
+        let mut regions: Vec<(RegionKind, &str)> = Vec::new();
         let mut markers = false;
         for (ov, color) in opts.overlays.iter().zip(&colors) {
             match ov {
@@ -171,21 +177,27 @@ impl Legend {
                         ovs.push((Swatch::Line(c.hex()), name));
                     }
                 }
-                Overlay::Region { kind, .. } => {
+                Overlay::Region { kind, label, .. } => {
                     kinds.insert(*kind);
+                    if let Some(l) = label.as_deref()
+                        && !regions.contains(&(*kind, l))
+                    {
+                        regions.push((*kind, l));
+                    }
                 }
-                Overlay::Marker { .. } => markers = true,
+                Overlay::Reference { label, .. } => {
+                    let name = label.clone().unwrap_or_else(|| "reference route".into());
+                    ovs.push((Swatch::Dashed(overlay::REFERENCE.hex()), name));
+                }
+                // Numbered markers are stage destinations; others (`S`, a note) say what
+                // they are on the picture itself.
+                Overlay::Marker { label, .. } => {
+                    markers |= !label.is_empty() && label.chars().all(|c| c.is_ascii_digit());
+                }
             }
         }
         for k in kinds {
-            let (c, opacity, dash) = k.look();
-            let sw = Swatch::Fill {
-                fill: c.hex(),
-                stroke: Some(c.hex()),
-                opacity,
-                dash,
-            };
-            ovs.push((sw, k.name().to_string()));
+            ovs.push((region_swatch(k), k.name().to_string()));
         }
         if markers {
             ovs.push((Swatch::Marker, "stage destination".into()));
@@ -194,6 +206,24 @@ impl Legend {
             sections.push(Section {
                 title: "Overlays",
                 entries: ovs,
+            });
+        }
+        // Each labelled region by its own name, as the map and the summary name it.
+        let mut named: Vec<(Swatch, String)> = regions
+            .iter()
+            .take(MAX_REGION_ENTRIES)
+            .map(|(k, l)| (region_swatch(*k), l.to_string()))
+            .collect();
+        if regions.len() > MAX_REGION_ENTRIES {
+            named.push((
+                Swatch::Line("#ffffff".into()),
+                format!("… and {} more", regions.len() - MAX_REGION_ENTRIES),
+            ));
+        }
+        if !named.is_empty() {
+            sections.push(Section {
+                title: "Regions",
+                entries: named,
             });
         }
         Legend { sections }
@@ -264,6 +294,16 @@ impl Legend {
     }
 }
 
+fn region_swatch(k: RegionKind) -> Swatch {
+    let (c, opacity, dash) = k.look();
+    Swatch::Fill {
+        fill: c.hex(),
+        stroke: Some(c.hex()),
+        opacity,
+        dash,
+    }
+}
+
 fn truncate(s: &str, max: usize) -> String {
     if s.chars().count() <= max {
         s.to_string()
@@ -305,6 +345,15 @@ fn draw_swatch(out: &mut String, sw: &Swatch, x: f64, y: f64) {
                 num(x + 2.0),
                 num(y + h / 2.0),
                 num(x + w - 2.0)
+            );
+        }
+        Swatch::Dashed(c) => {
+            let _ = writeln!(
+                out,
+                "<path d=\"M{} {}H{}\" stroke=\"{c}\" stroke-width=\"2.5\" stroke-dasharray=\"6 4\"/>",
+                num(x + 1.0),
+                num(y + h / 2.0),
+                num(x + w - 1.0)
             );
         }
         Swatch::Dot(c) => {

@@ -16,6 +16,8 @@ mod style;
 mod svg;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_explain;
 
 pub use overlay::{Overlay, RegionKind};
 pub use style::Rgb;
@@ -36,6 +38,9 @@ pub struct RenderOptions {
     pub overlays: Vec<Overlay>,
     /// Heading above the picture; `None` uses the map id, `Some("")` draws no heading.
     pub title: Option<String>,
+    /// Paragraphs under the heading (an episode's instruction, its scores), wrapped to the
+    /// picture's width; they never widen it.
+    pub caption: Vec<String>,
 }
 
 impl Default for RenderOptions {
@@ -45,6 +50,7 @@ impl Default for RenderOptions {
             scale: 0.0,
             overlays: Vec::new(),
             title: None,
+            caption: Vec::new(),
         }
     }
 }
@@ -72,6 +78,10 @@ pub enum RenderError {
 
 /// Longest side, in pixels, of a picture; beyond this tiny-skia allocations get unreasonable.
 pub const MAX_SIDE: u64 = 16_384;
+
+/// Font size and line height of the caption under the title.
+const CAPTION_SIZE: f64 = 13.0;
+const CAPTION_LINE: f64 = 18.0;
 
 /// Target width of the map area when the scale is automatic.
 const AUTO_TARGET_PX: f64 = 1400.0;
@@ -117,12 +127,20 @@ pub fn render_svg(map: &SemanticMap, opts: &RenderOptions) -> Result<String, Ren
     };
     let legend = legend::Legend::build(map, opts);
     let margin = 16.0;
-    let title_h = if title.is_empty() { 0.0 } else { 52.0 };
     let map_w = (crop.cols as f64 * s).max(if n == 0 { 240.0 } else { 0.0 });
     let map_h = (crop.rows as f64 * s).max(if n == 0 { 160.0 } else { 0.0 });
     let scalebar_h = 40.0;
     let legend_x = margin + map_w + 20.0;
     let width = (legend_x + legend.width() + margin).ceil();
+    let caption: Vec<String> = opts
+        .caption
+        .iter()
+        .flat_map(|p| svg::wrap(p, width - 2.0 * margin, CAPTION_SIZE))
+        .collect();
+    let caption_h = caption.len() as f64 * CAPTION_LINE;
+    let title_h = if title.is_empty() { 0.0 } else { 52.0 }
+        + caption_h
+        + if caption.is_empty() { 0.0 } else { 8.0 };
     let height = (margin + title_h + (map_h + scalebar_h).max(legend.height()) + margin).ceil();
     if width as u64 > MAX_SIDE || height as u64 > MAX_SIDE {
         return Err(RenderError::TooLarge {
@@ -171,6 +189,18 @@ pub fn render_svg(map: &SemanticMap, opts: &RenderOptions) -> Result<String, Ren
             ..st
         };
         svg::text(&mut out, margin, margin + 37.0, &facts, st);
+    }
+    let caption_top = margin + if title.is_empty() { 0.0 } else { 52.0 };
+    for (i, line) in caption.iter().enumerate() {
+        let st = svg::TextStyle {
+            size: CAPTION_SIZE,
+            fill: style::TEXT,
+            bold: false,
+            anchor: svg::Anchor::Start,
+            halo: false,
+        };
+        let y = caption_top + (i as f64 + 1.0) * CAPTION_LINE - 4.0;
+        svg::text(&mut out, margin, y, line, st);
     }
     if n == 0 {
         let _ = writeln!(

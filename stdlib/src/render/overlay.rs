@@ -33,6 +33,12 @@ pub enum Overlay {
     },
     /// A numbered (or otherwise labelled) point, e.g. a stage destination.
     Marker { cell: Cell, label: String },
+    /// A route a score is measured against (the path-shape reference of nDTW): a thin dashed
+    /// dark line, so it reads as a yardstick and not as a route driven.
+    Reference {
+        cells: Vec<Cell>,
+        label: Option<String>,
+    },
 }
 
 /// What a region means, which decides how it is drawn.
@@ -43,6 +49,8 @@ pub enum RegionKind {
     Pass,
     Scope,
     PreferenceRef,
+    /// A doorway an avoid region closes, where a failed plan is cut off.
+    Blocked,
 }
 
 impl RegionKind {
@@ -53,6 +61,7 @@ impl RegionKind {
             RegionKind::Pass => "pass through",
             RegionKind::Scope => "scope",
             RegionKind::PreferenceRef => "preference reference",
+            RegionKind::Blocked => "blocked doorway",
         }
     }
 
@@ -64,6 +73,7 @@ impl RegionKind {
             RegionKind::Pass => (Rgb(0x1d, 0x4e, 0xd8), 0.22, None),
             RegionKind::Scope => (Rgb(0x7b, 0x2c, 0xbf), 0.08, Some("10 5")),
             RegionKind::PreferenceRef => (Rgb(0xf7, 0x7f, 0x00), 0.25, Some("2 3")),
+            RegionKind::Blocked => (Rgb(0x8b, 0x00, 0x00), 0.75, None),
         }
     }
 }
@@ -72,7 +82,9 @@ impl Overlay {
     /// Every cell the overlay refers to.
     pub fn cells(&self) -> Box<dyn Iterator<Item = &Cell> + '_> {
         match self {
-            Overlay::Route { cells, .. } | Overlay::Region { cells, .. } => Box::new(cells.iter()),
+            Overlay::Route { cells, .. }
+            | Overlay::Region { cells, .. }
+            | Overlay::Reference { cells, .. } => Box::new(cells.iter()),
             Overlay::StagedRoute { stages, .. } => Box::new(stages.iter().flatten()),
             Overlay::Marker { cell, .. } => Box::new(std::iter::once(cell)),
         }
@@ -151,6 +163,12 @@ pub(super) fn draw_overlays(
                     (label, stages.iter().flatten().next(), color.first())
                 {
                     route_label(&mut texts, l, view.center(*first), c, view, placed);
+                }
+            }
+            Overlay::Reference { cells, label } => {
+                draw_reference(out, cells, view);
+                if let (Some(l), Some(last)) = (label, cells.last()) {
+                    route_label(&mut texts, l, view.center(*last), REFERENCE, view, placed);
                 }
             }
             _ => {}
@@ -274,6 +292,27 @@ fn route_points(cells: &[Cell], view: &View) -> Vec<(f64, f64)> {
         keep.push(q);
     }
     keep.iter().map(|&c| view.center(c)).collect()
+}
+
+/// The colour of reference routes (their legend swatch uses it too).
+pub(super) const REFERENCE: Rgb = Rgb(0x26, 0x26, 0x26);
+
+fn draw_reference(out: &mut String, cells: &[Cell], view: &View) {
+    let pts = route_points(cells, view);
+    let Some(&(x0, y0)) = pts.first() else { return };
+    let mut d = format!("M{} {}", num(x0), num(y0));
+    for &(x, y) in &pts[1..] {
+        let _ = write!(d, "L{} {}", num(x), num(y));
+    }
+    let lw = (view.s * 0.25).clamp(2.0, 3.5);
+    let _ = writeln!(
+        out,
+        "<path d=\"{d}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" stroke-dasharray=\"{} {}\" stroke-linejoin=\"round\" stroke-linecap=\"round\"/>",
+        REFERENCE.hex(),
+        num(lw),
+        num(lw * 3.0),
+        num(lw * 2.0)
+    );
 }
 
 fn draw_route(out: &mut String, cells: &[Cell], color: Rgb, view: &View) {

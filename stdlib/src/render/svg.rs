@@ -98,6 +98,27 @@ pub fn text_width(content: &str, size: f64, bold: bool) -> f64 {
     content.chars().count() as f64 * size * per_char
 }
 
+/// Splits `text` into lines no wider than `max_px` at font `size` (by [`text_width`]), breaking
+/// at spaces; a word longer than a line gets a line of its own. Explicit newlines are kept.
+pub fn wrap(text: &str, max_px: f64, size: f64) -> Vec<String> {
+    let max_chars = ((max_px / (size * 0.6)).floor() as usize).max(8);
+    let mut lines = Vec::new();
+    for para in text.lines() {
+        let mut line = String::new();
+        for word in para.split_whitespace() {
+            if !line.is_empty() && line.chars().count() + 1 + word.chars().count() > max_chars {
+                lines.push(std::mem::take(&mut line));
+            }
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            line.push_str(word);
+        }
+        lines.push(line);
+    }
+    lines
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -110,6 +131,20 @@ mod tests {
         assert_eq!(num(-0.001), "0");
         assert_eq!(num(f64::NAN), "0");
         assert_eq!(num(-7.125), "-7.13");
+    }
+
+    #[test]
+    fn wrapping_breaks_at_spaces_within_the_width() {
+        let lines = wrap(
+            "go to the bed in the bedroom and then the sofa",
+            120.0,
+            10.0,
+        );
+        assert_eq!(
+            lines,
+            ["go to the bed in the", "bedroom and then the", "sofa"]
+        );
+        assert_eq!(wrap("a\nb", 600.0, 10.0), ["a", "b"]);
     }
 
     #[test]

@@ -30,7 +30,7 @@ fn rect(r0: u32, c0: u32, r1: u32, c1: u32) -> Vec<Cell> {
 
 /// A 20×20 two-room house: a kitchen (cols 1..=9) and a bedroom (cols 11..=18) split by a wall
 /// with a doorway, a window on the outer wall, a table with a cup on it, and a start cell.
-fn tiny_house() -> SemanticMap {
+pub(super) fn tiny_house() -> SemanticMap {
     let n = 20;
     let mut occupancy = Grid::new(n, OBSTACLE);
     let mut room_layer = Grid::new(n, 0u32);
@@ -118,7 +118,7 @@ fn png_size(png: &[u8]) -> (u32, u32) {
     (w, h)
 }
 
-fn svg_size(svg: &str) -> (u32, u32) {
+pub(super) fn svg_size(svg: &str) -> (u32, u32) {
     let attr = |name: &str| -> u32 {
         let key = format!(" {name}=\"");
         let start = svg.find(&key).unwrap() + key.len();
@@ -461,6 +461,7 @@ fn tiny_house_svg_snapshot() {
         scale: 8.0,
         overlays: all_overlays(),
         title: None,
+        caption: Vec::new(),
     };
     insta::assert_snapshot!(render_svg(&map, &opts).unwrap());
 }
@@ -738,6 +739,7 @@ fn labels_stay_inside_and_above_the_route() {
             },
         ],
         title: Some(String::new()),
+        caption: Vec::new(),
     };
     let svg = render_svg(&map, &opts).unwrap();
     // The map area: the margin, then crop columns × scale; the legend starts 20 px after it.

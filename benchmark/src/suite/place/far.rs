@@ -33,23 +33,23 @@ impl<'a> Scene<'a> {
             .map(|o| vec![o])
             .collect();
         pool.shuffle(rng);
-        // Windows of the room, as one quantified subject.
+        // Windows of the room, as one quantified subject: "the windows" are all of the room's,
+        // so every one of them must be fit to be a subject.
         let windows: Vec<u32> = ix
             .fixtures_of("window")
             .iter()
             .copied()
-            .filter(|&w| {
-                ix.object_room(w) == Some(scope.room)
-                    && !leg.mentioned.objects.borrow().contains(&w)
-            })
-            .filter(|&w| {
-                ix.object(w)
+            .filter(|&w| ix.object_room(w) == Some(scope.room))
+            .collect();
+        let fit = |w: &u32| {
+            !leg.mentioned.objects.borrow().contains(w)
+                && ix
+                    .object(*w)
                     .footprint
                     .iter()
                     .all(|&c| !leg.keep_off[ix.free.index(c)])
-            })
-            .collect();
-        if windows.len() >= 2 && rng.random_bool(0.25) {
+        };
+        if windows.len() >= 2 && windows.iter().all(fit) && rng.random_bool(0.25) {
             pool.insert(0, windows);
         }
         let mut tries = 0;

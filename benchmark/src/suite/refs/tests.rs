@@ -1,4 +1,5 @@
 use super::*;
+use crate::suite::realise::Speaker;
 
 #[test]
 fn circular_and_stacked_chains_are_unnatural() {

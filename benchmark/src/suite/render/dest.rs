@@ -1,6 +1,7 @@
 //! The words and program expression of each kind of destination.
 
 use super::Out;
+use crate::suite::determinacy::Reader;
 use crate::suite::generate::Scene;
 use crate::suite::lexicon;
 use crate::suite::plan::{Dest, Stage};
@@ -21,8 +22,9 @@ impl<'a> Scene<'a> {
         let role = format!("destination {}", k + 1);
         match &stage.dest {
             Dest::Object { id, desc } => {
-                let t = desc.text(ix, sp);
+                let (t, read) = desc.said(ix, sp);
                 out.stat(ix, &role, desc, &t);
+                self.check_destination(sp, &t, *id, read);
                 let short = format!("the {}", lexicon::plain(&ix.object(*id).category));
                 (t, desc.m2r(), short)
             }
@@ -34,7 +36,7 @@ impl<'a> Scene<'a> {
                 then_desc,
                 else_desc,
             } => {
-                let r = sp.room(ix, room);
+                let (r, rooms) = sp.room_said(ix, room, "room");
                 out.stat_room(ix, &role, room, &r);
                 let thing = lexicon::plain(cond_cat);
                 let other_cat = else_desc.category();
@@ -45,6 +47,14 @@ impl<'a> Scene<'a> {
                 );
                 let live = if *holds { then_desc } else { else_desc };
                 out.stat(ix, &role, live, &format!("the {}", live.category()));
+                // "Go to it" / "the desk there": the live branch's object in the room as read.
+                let words = if *holds {
+                    format!("the {thing} in {r}")
+                } else {
+                    other.clone()
+                };
+                let read = Reader::in_rooms(ix, live.category(), &rooms);
+                self.check_destination(sp, &words, *id, read);
                 let s = realise::conditional(sp, &r, &thing, &other);
                 let m2r = format!(
                     "if objects({cond_cat}).in({}).exists() {{ {} }} else {{ {} }}",
@@ -62,8 +72,10 @@ impl<'a> Scene<'a> {
             } => {
                 let r = sp.room_id(ix, *room, Some(room_ref));
                 out.stat_room(ix, &role, room_ref, &r);
-                let a = anchor.text(ix, sp);
+                let (a, read) = anchor.said(ix, sp);
                 out.stat(ix, &role, anchor, &a);
+                let gold = anchor.resolve(ix, sp.reader.start);
+                sp.reader.note("anchor", &a, gold, read);
                 let rel = sp.pick("corner", &["nearest to", "closest to", "next to"]);
                 let t = format!("the corner of {r} {rel} {a}");
                 out.stat_structure(&role, "corner", self.corner_count(), &t);
@@ -108,6 +120,13 @@ impl<'a> Scene<'a> {
                     format!("the other {noun}")
                 };
                 out.stat_implied(ix, &role, cat, &t);
+                // "The other one": the other of the last destination's category, as read.
+                let of = match (t.as_str(), sp.reader.last_destination) {
+                    ("the other one", Some(last)) => ix.object(last).category.clone(),
+                    _ => cat.clone(),
+                };
+                let read = sp.reader.other(ix, &of);
+                self.check_destination(sp, &t, *id, read);
                 // "While heading to the other couch": "the couch" would be either of the two.
                 let short = format!("the other {}", lexicon::plain(&ix.object(*id).category));
                 (
@@ -122,7 +141,7 @@ impl<'a> Scene<'a> {
                 "your starting point".into(),
             ),
             Dest::Between { a, b } => {
-                let (ta, tb) = ObjRef::pair_text(a, b, ix, sp);
+                let (ta, tb) = self.partners(sp, a, b);
                 out.stat(ix, &role, a, &ta);
                 out.stat(ix, &role, b, &tb);
                 let form = sp.pick(
@@ -140,6 +159,32 @@ impl<'a> Scene<'a> {
                 )
             }
         }
+    }
+
+    /// Checks a destination's words, which become the antecedent of "the other one".
+    fn check_destination(&self, sp: &mut Speaker<'_>, words: &str, id: u32, read: Vec<u32>) {
+        sp.reader.last_destination = match read.as_slice() {
+            [o] => Some(*o),
+            _ => None,
+        };
+        sp.reader.named_object(&read);
+        sp.reader.note("destination", words, vec![id], read);
+    }
+
+    /// The two partners of an area between ("between the sofa and the TV"), each checked.
+    pub(super) fn partners(
+        &self,
+        sp: &mut Speaker<'_>,
+        a: &ObjRef,
+        b: &ObjRef,
+    ) -> (String, String) {
+        let ix = &self.ix;
+        let ((ta, ra), (tb, rb)) = ObjRef::pair_said(a, b, ix, sp);
+        for (d, t, read) in [(a, &ta, ra), (b, &tb, rb)] {
+            let gold = d.resolve(ix, sp.reader.start);
+            sp.reader.note("between partner", t, gold, read);
+        }
+        (ta, tb)
     }
 
     /// Corners of every room of the house, as `rooms(..).corners()` finds them.

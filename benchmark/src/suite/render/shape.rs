@@ -21,7 +21,8 @@ impl Scene<'_> {
         soft: &SoftPlan,
         shape: &ShapePlan,
         var: &str,
-        leg: &str,
+        dest: super::StageDest<'_>,
+        leg: &super::LegPhrase,
         (no, order): (usize, u32),
         label: &str,
         role: &str,
@@ -43,17 +44,28 @@ impl Scene<'_> {
         let (text, line, kind) = match shape.kind {
             ShapeKind::Circle => {
                 let (o, desc) = shape.object.clone().expect("a circle has an object");
+                // Named by its category alone, the object is the one of the room the sentence
+                // is scoped to, which it then says ("in the living room, circle the dining
+                // table"): without it "the dining table" is any of the house's.
+                let mut scope_text = None;
                 let (t, m2r) = match &desc {
                     Some(d) => {
-                        let t = d.text(ix, sp);
+                        let (t, read) = d.said(ix, sp);
                         out.stat(ix, role, d, &t);
+                        sp.reader.note("path-shape subject", &t, vec![o], read);
                         (t, d.m2r())
                     }
                     None => {
+                        let (room, said) = self.scope(sp, out, soft, var, dest);
+                        scope_text = Some(said);
                         let cat = &ix.object(o).category;
                         let t = format!("the {}", sp.noun(cat));
                         out.stat_implied(ix, role, cat, &t);
-                        let room = self.room_expr(soft, var);
+                        let read = sp.reader.bare(ix, cat);
+                        sp.reader
+                            .note("path-shape subject", &t, vec![o], read.clone());
+                        sp.reader.named_object(&read);
+                        sp.reader.scope = None;
                         (t, format!("objects({cat}).in({room}).only()"))
                     }
                 };
@@ -61,8 +73,11 @@ impl Scene<'_> {
                 c["reference_region"] =
                     json!({"mode": "object", "object_id": o, "cells": footprints_json(ix, &[o])});
                 let s = realise::circle(sp, &t, shape.clockwise);
-                let s = if sp.chance(0.5) {
-                    format!("{leg}, {s}")
+                let s = if let Some(scope) = scope_text {
+                    format!("{scope}, {s}")
+                } else if sp.chance(0.5) {
+                    self.check_leg(sp, leg);
+                    format!("{}, {s}", leg.text)
                 } else {
                     s
                 };

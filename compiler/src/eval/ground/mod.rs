@@ -6,6 +6,7 @@
 //! function that gives it meaning on a map. A row without grounding semantics cannot ship: the
 //! test `every_builtin_row_has_grounding_semantics` walks the whole table.
 
+mod empty;
 mod filters;
 mod measures;
 mod places;

@@ -181,14 +181,18 @@ impl Grounder<'_, '_> {
     fn first_ranked(&mut self, c: &Call, keyed: Vec<(f64, PlaceVal)>) -> Value {
         match keyed.into_iter().next() {
             Some((_, p)) => Value::Place(p),
-            None => self.report(
-                Problem::error(
-                    codes::EMPTY_RANKING,
-                    c.e.span,
-                    format!("`.{}()` of an empty selection", c.name()),
+            None => {
+                let notes = self.category_notes(c.recv_span());
+                self.report(
+                    Problem::error(
+                        codes::EMPTY_RANKING,
+                        c.e.span,
+                        format!("`.{}()` of an empty selection", c.name()),
+                    )
+                    .label(c.recv_span(), "this selection has no element on this map")
+                    .notes(notes),
                 )
-                .label(c.recv_span(), "this selection has no element on this map"),
-            ),
+            }
         }
     }
 
@@ -248,7 +252,7 @@ impl Grounder<'_, '_> {
                     "`.only()` found no candidate on this map",
                 )
                 .label(recv_span, "this selection is empty here");
-                if let Some(note) = self.missing_category_note(recv_span) {
+                for note in self.category_notes(recv_span) {
                     p = p.note(note);
                 }
                 self.report(p.help("check the category and filters, or guard the choice with `if s.exists() { ... } else { ... }`"))
@@ -263,30 +267,5 @@ impl Grounder<'_, '_> {
                 )
             }
         }
-    }
-
-    /// "this map has no `toilet` at all", when the selection starts from a category the map lacks.
-    fn missing_category_note(&self, span: Span) -> Option<String> {
-        let text = self.source.get(span.start..span.end)?;
-        let inner = text
-            .split("objects(")
-            .nth(1)
-            .or_else(|| text.split("rooms(").nth(1))?;
-        let cats: Vec<&str> = inner
-            .split(')')
-            .next()?
-            .split('|')
-            .map(str::trim)
-            .filter(|c| !c.is_empty())
-            .collect();
-        let map = self.q.map();
-        let missing: Vec<&str> = cats
-            .into_iter()
-            .filter(|c| {
-                !map.objects.iter().any(|o| o.category == *c)
-                    && !map.rooms.iter().any(|r| r.category == *c)
-            })
-            .collect();
-        (!missing.is_empty()).then(|| format!("this map has no `{}` at all", missing.join("`, `")))
     }
 }

@@ -1,0 +1,188 @@
+//! A description said in English, and read back: each branch that decides what the words say
+//! (a room left out because the clause is scoped to it, a room referred back to as "that room")
+//! also decides what a reader takes them for ([`super::super::determinacy`]), so the check reads
+//! exactly the words written.
+
+use super::super::determinacy::Reader;
+use super::super::index::MapIndex;
+use super::super::lexicon;
+use super::super::realise::Speaker;
+use super::{ObjRef, nearest_with_margin, ranked_from};
+use rand::Rng;
+use rand::seq::IndexedRandom;
+
+impl ObjRef {
+    /// "The sink in this bathroom and the toilet": the second of two objects described in the
+    /// same room leaves the room out, as a person would.
+    pub fn pair_text(
+        a: &ObjRef,
+        b: &ObjRef,
+        ix: &MapIndex<'_>,
+        sp: &mut Speaker<'_>,
+    ) -> (String, String) {
+        let ((ta, _), (tb, _)) = Self::pair_said(a, b, ix, sp);
+        (ta, tb)
+    }
+
+    /// [`Self::pair_text`], with what a reader takes each member for: the second, whose room
+    /// is left out, is read in the room of the first as read.
+    pub fn pair_said(
+        a: &ObjRef,
+        b: &ObjRef,
+        ix: &MapIndex<'_>,
+        sp: &mut Speaker<'_>,
+    ) -> ((String, Vec<u32>), (String, Vec<u32>)) {
+        let first = a.said(ix, sp);
+        let (outer, outer_scope) = (sp.implied_room, sp.reader.scope);
+        if let Some(r) = a.stated_room(ix).filter(|&r| b.stated_room(ix) == Some(r)) {
+            sp.implied_room = Some(r);
+            sp.reader.scope = match Reader::rooms_of(ix, &first.1).as_slice() {
+                [read] => Some(*read),
+                _ => None,
+            };
+        }
+        let second = b.said(ix, sp);
+        sp.implied_room = outer;
+        sp.reader.scope = outer_scope;
+        (first, second)
+    }
+
+    /// The description as English. Rooms the episode has already described are referred back
+    /// to ("that bedroom") rather than described again.
+    pub fn text(&self, ix: &MapIndex<'_>, sp: &mut Speaker<'_>) -> String {
+        self.said(ix, sp).0
+    }
+
+    /// [`Self::text`], and the objects a reader takes the words for. The rooms, parents and
+    /// anchors inside are checked as mentions of their own; the caller checks the whole.
+    pub fn said(&self, ix: &MapIndex<'_>, sp: &mut Speaker<'_>) -> (String, Vec<u32>) {
+        let (text, read) = self.said_inner(ix, sp);
+        sp.reader.named_object(&read);
+        (text, read)
+    }
+
+    /// A description inside this one (a parent, an anchor): said, read and checked.
+    fn said_anchor(&self, ix: &MapIndex<'_>, sp: &mut Speaker<'_>) -> (String, Vec<u32>) {
+        let (text, read) = self.said(ix, sp);
+        let gold = self.resolve(ix, sp.reader.start);
+        sp.reader.note("anchor", &text, gold, read.clone());
+        (text, read)
+    }
+
+    fn said_inner(&self, ix: &MapIndex<'_>, sp: &mut Speaker<'_>) -> (String, Vec<u32>) {
+        match self {
+            ObjRef::Unique { cat } => (format!("the {}", sp.noun(cat)), sp.reader.bare(ix, cat)),
+            ObjRef::InRoom { cat, room } if sp.is_implied(ix, room) => {
+                (format!("the {}", sp.noun(cat)), sp.reader.bare(ix, cat))
+            }
+            ObjRef::InRoom { cat, room } => {
+                let n = sp.noun(cat);
+                let prep = ["in", "in", "inside"]
+                    .choose(sp.rng)
+                    .copied()
+                    .unwrap_or("in");
+                let (r, rooms) = sp.room_said(ix, room, "room");
+                (
+                    format!("the {n} {prep} {r}"),
+                    Reader::in_rooms(ix, cat, &rooms),
+                )
+            }
+            ObjRef::On { cat, parent } => {
+                let n = sp.noun(cat);
+                let prep = ["on", "sitting on", "on top of"]
+                    .choose(sp.rng)
+                    .copied()
+                    .unwrap_or("on");
+                let (p, parents) = parent.said_anchor(ix, sp);
+                let read = sp
+                    .reader
+                    .head(ix, cat)
+                    .into_iter()
+                    .filter(|&o| parents.iter().any(|&p| ix.is_on(o, p)))
+                    .collect();
+                (format!("the {n} {prep} {p}"), read)
+            }
+            ObjRef::Nearest { cat, room, anchor } => {
+                let n = sp.noun(cat);
+                let rel = ["nearest to", "closest to", "nearest the"]
+                    .choose(sp.rng)
+                    .copied()
+                    .unwrap_or("nearest to");
+                let rel = if rel == "nearest the" { "nearest" } else { rel };
+                let (a, anchors) = anchor.said_anchor(ix, sp);
+                let (text, pool) = match room.as_ref().filter(|r| !sp.is_implied(ix, r)) {
+                    Some(room) => {
+                        let (r, rooms) = sp.room_said(ix, room, "room");
+                        let text = if sp.rng.random_bool(0.5) {
+                            format!("the {n} in {r} {rel} {a}")
+                        } else {
+                            format!("the {n} {rel} {a} in {r}")
+                        };
+                        (text, Reader::in_rooms(ix, cat, &rooms))
+                    }
+                    None => (format!("the {n} {rel} {a}"), sp.reader.head(ix, cat)),
+                };
+                let read = match anchors.as_slice() {
+                    [a] => nearest_with_margin(ix, &pool, *a).into_iter().collect(),
+                    _ => pool,
+                };
+                (text, read)
+            }
+            ObjRef::FromYou {
+                cat,
+                room,
+                farthest,
+            } => {
+                let n = sp.noun(cat);
+                let rel = if *farthest {
+                    [
+                        "farthest from you",
+                        "farthest from where you start",
+                        "farthest from your current position",
+                    ]
+                } else {
+                    [
+                        "closest to you",
+                        "nearest to where you are now",
+                        "closest to your starting position",
+                    ]
+                };
+                let rel = rel.choose(sp.rng).copied().unwrap_or(rel[0]);
+                // Kept even inside a scoped clause: "the chair closest to you" alone would be
+                // read house-wide.
+                let (text, pool) = match room {
+                    Some(room) => {
+                        let (r, rooms) = sp.room_said(ix, room, "room");
+                        (
+                            format!("the {n} in {r} {rel}"),
+                            Reader::in_rooms(ix, cat, &rooms),
+                        )
+                    }
+                    None => (format!("the {n} {rel}"), ix.all_of_cat(cat).to_vec()),
+                };
+                let read = match sp.reader.start {
+                    Some(s) => ranked_from(ix, &pool, s, *farthest).into_iter().collect(),
+                    None => pool,
+                };
+                (text, read)
+            }
+            ObjRef::NotOn { cat, room, other } => {
+                let n = sp.noun(cat);
+                let o = sp.noun(other);
+                let art = lexicon::article(&o);
+                let (tail, pool) = match room.as_ref().filter(|r| !sp.is_implied(ix, r)) {
+                    Some(room) => {
+                        let (r, rooms) = sp.room_said(ix, room, "room");
+                        (format!(" in {r}"), Reader::in_rooms(ix, cat, &rooms))
+                    }
+                    None => (String::new(), sp.reader.head(ix, cat)),
+                };
+                let read = pool
+                    .into_iter()
+                    .filter(|&x| !ix.of_cat(other).iter().any(|&p| ix.is_on(x, p)))
+                    .collect();
+                (format!("the {n}{tail} that is not on {art} {o}"), read)
+            }
+        }
+    }
+}
