@@ -2,7 +2,7 @@
 //!
 //! It reproduces the reference search exactly (method notes §4.1, §4.5): moves in the order up,
 //! down, left, right, then the diagonals; diagonals need both orthogonal neighbours traversable
-//! (no corner cutting, checked on the base grid, not the avoid mask); entering a cell costs the step
+//! (no corner cutting, checked on the base grid, or on the avoid mask too when the profile asks); entering a cell costs the step
 //! (1 or √2) plus its field value Φ plus the turn penalty; the open list is ordered by
 //! `(f, push counter)` so ties pop first-in first-out; a node is updated only on strict improvement;
 //! closed nodes are never re-expanded; the goal test happens at pop time.
@@ -19,7 +19,9 @@ use std::collections::BinaryHeap;
 #[derive(Clone, Copy)]
 pub struct Space<'a> {
     pub layout: Layout,
-    /// Base traversability, used for the corner-cutting test.
+    /// The cells a diagonal step may pass the corner of ([`crate::layout::corners_free`]): the
+    /// base traversability (the reference rule), or the allowed cells when avoided cells'
+    /// corners count too ([`crate::problem::CostProfile::avoid_corners`]).
     pub traversable: &'a [bool],
     /// Cells the search may enter: traversable and not avoided.
     pub allowed: &'a [bool],
@@ -205,13 +207,8 @@ impl AStar {
                 if !allowed[v] || self.tag[v] == closed {
                     continue;
                 }
-                if k >= 4 {
-                    let (dr, dc) = crate::layout::MOVES[k];
-                    let a = (u as isize + dr as isize * w as isize) as usize;
-                    let b = (u as isize + dc as isize) as usize;
-                    if !trav[a] || !trav[b] {
-                        continue;
-                    }
+                if !crate::layout::corners_free(trav, u, k, w) {
+                    continue;
                 }
                 let mut ng = gu + STEP[k];
                 if let Some(phi) = space.phi {

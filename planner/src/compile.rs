@@ -405,7 +405,7 @@ fn nonzero_on(phi: &[f64], runs: &[Run], layout: Layout) -> bool {
 }
 
 /// Whether any goal cell is reachable from `start` over `allowed` (8-connected, no corner cutting
-/// on `traversable`). Used only to explain failures.
+/// on `traversable`: [`crate::layout::corners_free`]). Used only to explain failures.
 pub fn reachable(
     layout: Layout,
     traversable: &[bool],
@@ -427,13 +427,8 @@ pub fn reachable(
             if seen[v] || !allowed[v] {
                 continue;
             }
-            if k >= 4 {
-                let (dr, dc) = crate::layout::MOVES[k];
-                if !traversable[(u as isize + dr as isize * w) as usize]
-                    || !traversable[(u as isize + dc as isize) as usize]
-                {
-                    continue;
-                }
+            if !crate::layout::corners_free(traversable, u, k, w as usize) {
+                continue;
             }
             seen[v] = true;
             queue.push_back(v);
@@ -493,7 +488,12 @@ pub fn explain_unreachable(
                 .map(|(t, f)| *t && !*f)
                 .collect();
             let goal: Vec<bool> = raw.iter().zip(&allowed).map(|(g, a)| *g && *a).collect();
-            if allowed[start] && reachable(l, &prep.traversable, &allowed, &goal, start) {
+            let corners = if p.profile.avoid_corners {
+                &allowed
+            } else {
+                &prep.traversable
+            };
+            if allowed[start] && reachable(l, corners, &allowed, &goal, start) {
                 culprits.push(seg.forbids[skip].1);
             }
         }

@@ -17,7 +17,7 @@
 
 use crate::astar::AStar;
 use crate::compile::{self, CompiledSegment};
-use crate::layout::{MOVES, NO_HEADING, turn_table};
+use crate::layout::{NO_HEADING, corners_free, turn_table};
 use crate::open_list::OpenEntry;
 use crate::problem::PlanProblem;
 use crate::route::{
@@ -161,6 +161,11 @@ fn search(
     for (k, &(si, ti)) in order.iter().enumerate() {
         let seg = segs[si];
         let st = &seg.stages[ti];
+        let corner_grid: &[bool] = if p.profile.avoid_corners {
+            &seg.allowed
+        } else {
+            &prep.traversable
+        };
         let width = width_of(k);
         let smooth = if smooth_w > 0.0 {
             st.smooth.as_deref()
@@ -225,13 +230,8 @@ fn search(
                 if !seg.allowed[v] {
                     continue;
                 }
-                if m >= 4 {
-                    let (dr, dc) = MOVES[m];
-                    if !prep.traversable[(u as isize + dr as isize * w) as usize]
-                        || !prep.traversable[(u as isize + dc as isize) as usize]
-                    {
-                        continue;
-                    }
+                if !corners_free(corner_grid, u, m, w as usize) {
+                    continue;
                 }
                 let mut c = du + STEP[m];
                 if let Some(phi) = seg.phi.as_deref() {

@@ -16,6 +16,22 @@ pub const MOVES: [(i32, i32); 8] = [
     (1, 1),
 ];
 
+/// Whether the diagonal move `k` (4..8 in [`MOVES`]) from padded index `u` keeps off the corners
+/// of cells outside `free`: both orthogonal neighbours it passes between must be in `free`. Every
+/// search applies this one rule; `free` is the base traversability for the reference's corner
+/// rule (walls only), or the allowed cells when an avoided cell's corner counts too, as the
+/// evaluator's segment test counts a touched corner (`m2rc_benchmark::route::validity` checks
+/// routes with the same rule). Straight moves (`k < 4`) pass no corner.
+#[inline]
+pub fn corners_free(free: &[bool], u: usize, k: usize, w: usize) -> bool {
+    if k < 4 {
+        return true;
+    }
+    let (dr, dc) = MOVES[k];
+    free[(u as isize + dr as isize * w as isize) as usize]
+        && free[(u as isize + dc as isize) as usize]
+}
+
 /// Heading slot meaning "no previous move" (the start of a search).
 pub const NO_HEADING: u8 = 8;
 

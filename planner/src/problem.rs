@@ -244,6 +244,11 @@ pub struct CostProfile {
     /// straight-line distance to the target's bounding box: cheaper to build, same optimal cost,
     /// possibly different ties.
     pub edt_heuristic: bool,
+    /// Whether a diagonal step may not pass the corner of an avoided cell either (only of a
+    /// wall, in the reference). The evaluator's segment test counts a touched corner as
+    /// entering the region; the full cost model's clearance term keeps its routes off such
+    /// corners, a hard-constraint-only profile has nothing that does, so those set it.
+    pub avoid_corners: bool,
 }
 
 impl Default for CostProfile {
@@ -274,6 +279,7 @@ impl CostProfile {
             max_expansions: 1_000_000,
             waypoints: WaypointMode::Stages,
             edt_heuristic: true,
+            avoid_corners: false,
         }
     }
 
@@ -287,6 +293,7 @@ impl CostProfile {
             smoothness_weight: 0.0,
             max_expansions: 0,
             waypoints: WaypointMode::Drop,
+            avoid_corners: true,
             ..CostProfile::reference()
         }
     }
@@ -299,6 +306,7 @@ impl CostProfile {
             soft_scale: 0.0,
             smoothness_weight: 0.0,
             waypoints: WaypointMode::Collapse,
+            avoid_corners: true,
             ..CostProfile::reference()
         }
     }

@@ -5,7 +5,9 @@
 //! step costs (1 and √2) and the no-corner-cutting rule are those of the RouteIR planners
 //! (`layout::MOVES`, checked on the base traversable grid). Avoid regions are not masks here: they
 //! are atoms, and a move whose letter sends the automaton to a state that cannot accept any more
-//! is pruned. The route is the cheapest path ending in an accepting state.
+//! is pruned; so is a diagonal move whose corner cells' letters would, since the evaluator
+//! counts a touched corner as entering (the hard-constraint-only profiles' corner rule,
+//! `CostProfile::avoid_corners`; the formula has no soft terms, so it always applies here). The route is the cheapest path ending in an accepting state.
 //!
 //! A* with the heuristic "straight-line distance to the nearest cell whose letter moves the
 //! automaton out of its current state to a live state", zero in accepting states: any accepting
@@ -16,7 +18,7 @@
 //! Costs are path length only: soft preferences have no meaning in the formula (the caller says
 //! which were dropped).
 
-use crate::layout::{Layout, MOVES};
+use crate::layout::{Layout, MOVES, corners_free};
 use crate::open_list::OpenEntry;
 use m2rc_compiler::ltl::Dfa;
 use m2rc_stdlib::field::LazySquaredDistances;
@@ -216,11 +218,16 @@ pub fn search(p: &ProductProblem) -> Result<ProductRoute, ProductFailure> {
             if !trav[v] {
                 continue;
             }
+            if !corners_free(&trav, u, m, l.w) {
+                continue;
+            }
+            // The corners' letters too: a diagonal step past the corner of an avoided cell
+            // touches it in the evaluator's segment test, so it must not kill the automaton.
             if m >= 4 {
                 let (dr, dc) = MOVES[m];
-                if !trav[(u as isize + dr as isize * w) as usize]
-                    || !trav[(u as isize + dc as isize) as usize]
-                {
+                let a = (u as isize + dr as isize * w) as usize;
+                let b = (u as isize + dc as isize) as usize;
+                if !live[next(q, cls[a])] || !live[next(q, cls[b])] {
                     continue;
                 }
             }
@@ -371,5 +378,32 @@ mod tests {
             plan("F a", &[a], &trav, n),
             Err(ProductFailure::NoAcceptingRoute { .. })
         ));
+    }
+
+    #[test]
+    fn corners_of_avoided_cells_are_not_clipped() {
+        // Start (0,0), goal (1,2), avoided (0,1) and (1,0): the diagonal (0,0) -> (1,1) passes
+        // both avoided cells' corners, so the route cannot leave the start at all.
+        let n = 3;
+        let trav = vec![true; n * n];
+        let a = mask(n, &[(1, 2)]);
+        let c = mask(n, &[(0, 1), (1, 0)]);
+        assert!(matches!(
+            plan("F a & G !b", &[a.clone(), c], &trav, n),
+            Err(ProductFailure::NoAcceptingRoute { .. })
+        ));
+        // With only (0,1) avoided, the walls-only rule would take (0,0) -> (1,1) -> (1,2)
+        // (1 + √2), past (0,1)'s corner; the route goes down first instead (length 3).
+        let c = mask(n, &[(0, 1)]);
+        let r = plan("F a & G !b", &[a, c], &trav, n).unwrap();
+        assert_eq!(
+            r.trajectory,
+            vec![
+                Cell::new(0, 0),
+                Cell::new(1, 0),
+                Cell::new(1, 1),
+                Cell::new(1, 2)
+            ]
+        );
     }
 }

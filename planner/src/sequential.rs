@@ -141,7 +141,11 @@ pub(crate) fn run(
             }
             let space = Space {
                 layout: l,
-                traversable: &prep.traversable,
+                traversable: if p.profile.avoid_corners {
+                    &seg.allowed
+                } else {
+                    &prep.traversable
+                },
                 allowed: &seg.allowed,
                 phi: seg.phi.as_deref().map(Vec::as_slice),
             };

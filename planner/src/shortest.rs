@@ -16,6 +16,7 @@ pub fn hard_constraints_only(profile: &CostProfile) -> CostProfile {
         smoothness_weight: 0.0,
         max_expansions: 0,
         waypoints: WaypointMode::Drop,
+        avoid_corners: true,
         ..profile.clone()
     }
 }

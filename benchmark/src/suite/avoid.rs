@@ -83,6 +83,9 @@ impl<'a> Scene<'a> {
                 blocked[i] |= b;
             }
         }
+        // Never an object of a category the destinations name: "keep out of the area around
+        // the armchair" after "go to the armchair" reads as avoiding the destination.
+        let named = super::place::named_categories(ix, stages);
         let mut pool: Vec<u32> = self
             .descriptions
             .keys()
@@ -90,6 +93,7 @@ impl<'a> Scene<'a> {
             .filter(|o| {
                 stages.iter().all(|s| !s.anchor_objects.contains(o))
                     && ix.object(*o).parent.is_none()
+                    && !named.contains(&ix.object(*o).category)
             })
             .collect();
         pool.shuffle(rng);
@@ -141,5 +145,62 @@ impl<'a> Scene<'a> {
             }
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::index::MapIndex;
+    use super::super::plan::{Dest, Stage};
+    use super::super::refs::ObjRef;
+    use super::*;
+    use rand::SeedableRng;
+
+    /// The demo house has three beds. With one of them the destination, an object must-avoid is
+    /// never about another bed ("keep out of the area around the bed" would read as avoiding the
+    /// destination), nor about anything else the destination's words name.
+    #[test]
+    fn object_avoids_never_name_a_destination_category() {
+        let map = m2rc_stdlib::demo::demo_map().unwrap();
+        let scene = Scene::new(MapIndex::new(&map), "procthor/demo".into());
+        let ix = &scene.ix;
+        let bed = ix.of_cat("bed")[0];
+        assert_eq!(ix.of_cat("bed").len(), 3);
+        let start = map.start.unwrap();
+        let room = ix.object_room(bed).unwrap();
+        let goal: Vec<usize> = ix.room_free_cells(room).into_iter().take(1).collect();
+        let stage = Stage {
+            dest: Dest::Object {
+                id: bed,
+                desc: ObjRef::Unique { cat: "bed".into() },
+            },
+            anchor_objects: vec![bed],
+            room,
+            goal,
+            center: [0.0, 0.0],
+            radius: 1.0,
+            avoids: vec![],
+            softs: vec![],
+        };
+        let stages = [stage];
+        let mut categories = std::collections::BTreeSet::new();
+        for seed in 0..300 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let Some(a) = scene.object_avoid(&mut rng, start, &stages) else {
+                continue;
+            };
+            match &a.place {
+                AvoidPlace::Around(d) => {
+                    categories.insert(d.category().to_string());
+                }
+                AvoidPlace::Between(x, y) => {
+                    categories.insert(x.category().to_string());
+                    categories.insert(y.category().to_string());
+                }
+                AvoidPlace::Room(_) => {}
+            }
+        }
+        assert!(categories.len() > 3, "too few avoids drawn: {categories:?}");
+        assert!(!categories.contains("bed"), "{categories:?}");
     }
 }

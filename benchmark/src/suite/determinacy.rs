@@ -18,7 +18,11 @@
 //! * a qualified head with no stated room ("the chair nearest the lamp") ranks the Xs of the
 //!   scope room when it holds one, else every X; "closest to you" ranks the whole house;
 //! * "that room" is the room named last; "that bedroom", "the same bedroom" the bedroom named
-//!   last; "the other X" the X not yet named.
+//!   last; "the other X" the X not yet named;
+//! * a room phrase after two nouns ("the chair nearest the window in the bedroom") may belong to
+//!   either: it is an `attachment` mention, and the realiser writes it so that both readings
+//!   agree, or so that it can only belong to one ("the window that is in the bedroom", "the
+//!   chair in the bedroom nearest the window"; `refs/say.rs`).
 //!
 //! A mention that resolves to anything but the gold's object is *underdetermined*; the
 //! generator rewords or redraws until an episode has none, and `suite stats` counts them by kind
@@ -30,7 +34,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// The kinds of mention, as `suite stats` reports them.
-pub const KINDS: [&str; 8] = [
+pub const KINDS: [&str; 9] = [
     "destination",
     "anchor",
     "must-avoid",
@@ -39,6 +43,7 @@ pub const KINDS: [&str; 8] = [
     "relative pair",
     "between partner",
     "room",
+    "attachment",
 ];
 
 /// One mention whose words did not resolve to the gold's object.

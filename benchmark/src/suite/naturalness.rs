@@ -12,6 +12,8 @@
 //! * preference subjects of a category a destination names ("go to the spray bottle that is not
 //!   on a shelf", then "stay closer to the spray bottle than to the mug" about another one),
 //!   which a reader takes for the destination's own;
+//! * must-avoids of a category a destination names ("go to the armchair", then "keep out of the
+//!   area around the armchair" about another one), which reads as avoiding the destination;
 //! * objects that are the subject of two preferences (said twice, perhaps in other words, it
 //!   reads as two things), counted from the episode's soft constraints.
 
@@ -25,6 +27,7 @@ pub struct Naturalness {
     pub circular_references: usize,
     pub rooms_described_more_than_once: usize,
     pub preference_subjects_named_like_a_destination: usize,
+    pub must_avoids_named_like_a_destination: usize,
     pub objects_in_two_preferences: usize,
 }
 
@@ -35,6 +38,7 @@ impl Naturalness {
             + self.circular_references
             + self.rooms_described_more_than_once
             + self.preference_subjects_named_like_a_destination
+            + self.must_avoids_named_like_a_destination
             + self.objects_in_two_preferences
     }
 
@@ -99,14 +103,20 @@ impl Naturalness {
             .filter(|r| role(r).starts_with("destination"))
             .flat_map(|r| strings(r, "object_categories"))
             .collect();
+        let named_like_a_destination = |r: &&Value| {
+            r.get("category")
+                .and_then(Value::as_str)
+                .is_some_and(|c| named.iter().any(|n| n == c))
+        };
         self.preference_subjects_named_like_a_destination += refs
             .iter()
             .filter(|r| role(r).ends_with("preference"))
-            .filter(|r| {
-                r.get("category")
-                    .and_then(Value::as_str)
-                    .is_some_and(|c| named.iter().any(|n| n == c))
-            })
+            .filter(named_like_a_destination)
+            .count();
+        self.must_avoids_named_like_a_destination += refs
+            .iter()
+            .filter(|r| role(r).starts_with("must-avoid"))
+            .filter(named_like_a_destination)
             .count();
         for r in refs {
             if has_repeat(strings(r, "room_categories")) {
@@ -162,10 +172,11 @@ mod tests {
                 circular_references: 1,
                 rooms_described_more_than_once: 1,
                 preference_subjects_named_like_a_destination: 1,
+                must_avoids_named_like_a_destination: 1,
                 objects_in_two_preferences: 0,
             }
         );
-        assert_eq!(n.total(), 5);
+        assert_eq!(n.total(), 6);
         // Object 4 is in two preferences (a through passing 4 and 9 counts it once itself).
         n.add_soft(Some(&json!([
             {"object_ids": [4]},

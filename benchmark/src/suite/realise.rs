@@ -33,6 +33,9 @@ pub struct Speaker<'r> {
     /// The room a clause is already scoped to ("in this lounge, ..."): descriptions inside the
     /// clause leave it out rather than name it a second time.
     pub implied_room: Option<u32>,
+    /// Say the next "the X in R" as "the X that is in R": set while an anchor whose room a
+    /// reader could attach to the described object is said (`ObjRef::said`).
+    pub relative_room: bool,
     /// The episode read back as it is written, to check that every mention names the gold's
     /// object ([`super::determinacy`]).
     pub reader: Reader,
@@ -47,6 +50,7 @@ impl<'r> Speaker<'r> {
             room_again: BTreeMap::new(),
             templates: Vec::new(),
             implied_room: None,
+            relative_room: false,
             reader: Reader::default(),
         }
     }

@@ -497,6 +497,11 @@ pub fn stats_markdown(s: &SuiteStats) -> String {
             h.preference_subjects_named_like_a_destination,
         ),
         (
+            "must-avoids named like a destination",
+            e.must_avoids_named_like_a_destination,
+            h.must_avoids_named_like_a_destination,
+        ),
+        (
             "objects in two preferences",
             e.objects_in_two_preferences,
             h.objects_in_two_preferences,

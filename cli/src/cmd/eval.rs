@@ -56,6 +56,11 @@ pub struct EvalArgs {
     /// of the episode's `map_id` and the map's id is refused).
     #[arg(long)]
     pub any_map: bool,
+    /// Refuse (exit 2) an episode with cells outside the map, orders below 1 or an unknown
+    /// preference type, as planning and `suite build` do. By default these are warnings and the
+    /// episode is scored as the reference evaluator scores it.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// The evaluator's view of a map argument, and the map's id when it is a Map2Route map (a
@@ -112,8 +117,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
     let (map, map_id) = eval_map(&args.map)?;
     let ep_name = display_name(&args.episode);
     let episode = Episode::from_json_str(&read_to_string(&args.episode)?, &ep_name)?;
-    m2rc_benchmark::episode_check::check_episode(&episode, Some(map.n()), &ep_name)
-        .map_err(unusable)?;
+    check_episode_for_eval(&episode, map.n(), &ep_name, args.strict)?;
     if !args.any_map {
         check_same_map(&episode, &ep_name, map_id.as_deref(), &args.map)?;
     }
@@ -150,6 +154,25 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
     };
     crate::io::stdout(&out)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Refuses what the reference evaluator refuses too (and, with `strict`, everything the
+/// episode check finds); warns about the rest, which is scored as the reference scores it.
+fn check_episode_for_eval(episode: &Episode, n: usize, name: &str, strict: bool) -> Result<()> {
+    use m2rc_benchmark::episode_check::{check_episode, episode_problems};
+    if strict {
+        return check_episode(episode, Some(n), name).map_err(unusable);
+    }
+    let problems = episode_problems(episode, Some(n));
+    if let Some(p) = problems.iter().find(|p| p.reference.is_none()) {
+        return Err(unusable(p.clone().into_error(name)));
+    }
+    for p in &problems {
+        if let Some(w) = p.warning(name) {
+            eprintln!("{w}");
+        }
+    }
+    Ok(())
 }
 
 /// Adds `route_valid` and `route_validity` (counts and the first problem) to a JSON object.

@@ -204,10 +204,34 @@ fn bad_episode_files_get_clear_errors_and_integral_floats_are_accepted() {
         edit(&mut v);
         let p = tmp.path().join("bad.json");
         write_json(&p, &v);
+        // The reference evaluator scores these files, so `eval` does, with a warning ...
         let r = eval(
             map.to_str().unwrap(),
             p.to_str().unwrap(),
             route.to_str().unwrap(),
+            tmp.path(),
+        )
+        .expect(0);
+        assert!(
+            r.stderr.contains("warning: ")
+                && r.stderr.contains(message)
+                && r.stderr.contains("bad.json")
+                && r.stderr.contains("--strict refuses it"),
+            "{message}: {}",
+            r.stderr
+        );
+        // ... and `--strict` refuses them, as planning does.
+        let r = m2rc(
+            &[
+                "eval",
+                "--map",
+                map.to_str().unwrap(),
+                "--episode",
+                p.to_str().unwrap(),
+                "--route",
+                route.to_str().unwrap(),
+                "--strict",
+            ],
             tmp.path(),
         )
         .expect(2);
@@ -344,4 +368,84 @@ fn suite_manifests_name_houses_by_0_based_index() {
     let index: usize = house.rsplit('#').next().unwrap().parse().unwrap();
     assert!(index <= 2, "{house}");
     m2rc(&["map", "info", house], tmp.path()).expect(0);
+}
+
+/// The reference evaluator's 5x5 fixture (obstacle at (0,0), resolution 1): record (0,0), goal
+/// (0,2); a near preference whose region has a cell outside the grid, and a preference type the
+/// reference does not know.
+fn reference_fixture(dir: &std::path::Path) -> (PathBuf, PathBuf) {
+    let mut occ = vec![vec![0; 5]; 5];
+    occ[0][0] = 1;
+    let map = dir.join("map5.json");
+    write_json(
+        &map,
+        &json!({"grid_size": 5, "layers": {"occupancy": occ, "object_instance": vec![vec![0; 5]; 5]}}),
+    );
+    let pass = |id: &str, c: i64, o: i64| json!({"constraint_id": id, "kind": "must_pass", "shape": "freeform", "order": o, "cells": [[0, c]]});
+    let ep = dir.join("instruction_000001.json");
+    write_json(
+        &ep,
+        &json!({"hard_constraints": [pass("record", 0, 1), pass("goal", 2, 2)],
+                "soft_constraints": [
+                    {"constraint_id": "near", "preference_type": "near_preference", "shape": "freeform",
+                     "cells": [[0, 1], [0, 2], [0, 9], [-1, 2]], "reference_region": {"cells": [[0, 0]]}},
+                    {"constraint_id": "smooth", "preference_type": "move_smoothness", "shape": "freeform", "cells": []},
+                    {"constraint_id": "__global_clearance__", "preference_type": "clearance"}]}),
+    );
+    (map, ep)
+}
+
+#[test]
+fn eval_scores_what_the_reference_scores_out_of_grid_regions_and_unknown_preferences() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (map, ep) = reference_fixture(tmp.path());
+    let route = tmp.path().join("r.json");
+    let score = |route_points: serde_json::Value, extra: &[&str]| {
+        write_json(&route, &route_points);
+        let mut args = vec![
+            "eval",
+            "--map",
+            map.to_str().unwrap(),
+            "--episode",
+            ep.to_str().unwrap(),
+            "--route",
+            route.to_str().unwrap(),
+            "--full",
+        ];
+        args.extend_from_slice(extra);
+        m2rc(&args, tmp.path())
+    };
+    // A route that misses the near region (reference vector D.1.3 with two more cells): the
+    // worst case is the farthest region cell inside the grid, (0,2), 2 cells from the object;
+    // (0,9) (9 cells) and (-1,2) are left out, as the reference leaves them.
+    let r = score(json!([[1, 1], [1, 2], [1, 3]]), &[]).expect(0);
+    let v: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
+    let soft = v["details"]["soft_constraints"].as_array().unwrap();
+    assert_eq!(soft[0]["status"], "empty_region_max_distance", "{v}");
+    assert_eq!(soft[0]["raw_value"], 2.0, "{v}");
+    // The unknown type: reported unsupported, no value; the rest is scored.
+    assert_eq!(soft[1]["status"], "unsupported_preference", "{v}");
+    assert!(soft[1]["raw_value"].is_null(), "{v}");
+    assert_eq!(soft[2]["status"], "computed", "{v}");
+    for needle in [
+        "soft_constraints[0].cells[2]",
+        "soft_constraints[0].cells[3]",
+        "unknown preference type `move_smoothness`",
+        "unsupported_preference",
+    ] {
+        assert!(r.stderr.contains(needle), "{needle}: {}", r.stderr);
+    }
+    // A route through the region is measured on its waypoints there: (0,2), 2 cells away.
+    let r = score(json!([[1, 1], [1, 2], [0, 2]]), &[]).expect(0);
+    let v: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
+    assert_eq!(v["HCS"], 1.0, "{v}");
+    assert_eq!(v["details"]["soft_constraints"][0]["status"], "computed");
+    assert_eq!(v["details"]["soft_constraints"][0]["raw_value"], 2.0);
+    // --strict refuses the file, naming the first field.
+    let r = score(json!([[1, 1], [0, 2]]), &["--strict"]).expect(2);
+    assert!(
+        r.stderr.contains("soft_constraints[0].cells[2]") && r.stderr.contains("outside the 5x5"),
+        "{}",
+        r.stderr
+    );
 }

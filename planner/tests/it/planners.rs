@@ -531,3 +531,68 @@ fn route_serializes_to_json() {
     let fv = serde_json::to_value(&f).unwrap();
     assert_eq!(fv["reason"], "goal_blocked");
 }
+
+/// The diagonal steps of `route` that pass a corner of one of `cells`.
+fn corner_touches(route: &[Cell], cells: &[Cell]) -> Vec<(Cell, Cell)> {
+    route
+        .windows(2)
+        .filter(|w| {
+            let (a, b) = (w[0], w[1]);
+            a.row != b.row
+                && a.col != b.col
+                && (cells.contains(&Cell::new(b.row, a.col))
+                    || cells.contains(&Cell::new(a.row, b.col)))
+        })
+        .map(|w| (w[0], w[1]))
+        .collect()
+}
+
+#[test]
+fn hard_constraint_only_profiles_keep_off_the_corners_of_avoided_cells() {
+    // The shortest way from S to G steps diagonally past A's corner, which the evaluator's
+    // segment test counts as entering the avoided cell.
+    let (g, at) = picture(&["..G", ".A.", "S.."]);
+    let mut p = problem(
+        g,
+        at('S')[0],
+        vec![seg(
+            vec![stage(region(at('G')), TARGET0)],
+            vec![Forbid {
+                cells: Area::Cells(at('A')),
+                origin: AVOID,
+            }],
+            vec![],
+        )],
+    );
+    // The reference rule tests walls only: the route clips A's corner.
+    let reference = plan_sequential(&p);
+    assert!(reference.is_success());
+    assert!((reference.cost - (2.0 + 2f64.sqrt())).abs() < 1e-9);
+    assert!(!corner_touches(&reference.trajectory, &at('A')).is_empty());
+    // Every hard-constraint-only planning keeps off it, at the cost of a longer route.
+    let shortest = plan_shortest(&p);
+    p.profile = CostProfile {
+        clearance: false,
+        ..CostProfile::hard_only()
+    };
+    let hard_only = plan_sequential(&p);
+    p.profile = CostProfile::shortest();
+    let global = plan_global(&p);
+    for (name, r) in [
+        ("shortest", &shortest),
+        ("hard_only", &hard_only),
+        ("global shortest", &global),
+    ] {
+        assert!(r.is_success(), "{name}: {:?}", r.failure);
+        assert_eq!(r.trajectory.first(), Some(&at('S')[0]), "{name}");
+        assert_eq!(r.trajectory.last(), Some(&at('G')[0]), "{name}");
+        assert_eq!(
+            corner_touches(&r.trajectory, &at('A')),
+            vec![],
+            "{name}: {:?}",
+            r.trajectory
+        );
+    }
+    assert!(CostProfile::shortest().avoid_corners && CostProfile::hard_only().avoid_corners);
+    assert!(!CostProfile::reference().avoid_corners);
+}

@@ -149,3 +149,71 @@ fn a_circled_object_named_by_category_is_said_with_its_room() {
         assert!(text.contains("bedroom"), "{text}");
     }
 }
+
+/// "The chair closest to the window inside the bedroom": when a reader attaching "inside the
+/// bedroom" to the chair would pick another chair than the gold's, the anchor's room is said as
+/// a relative clause ("the window that is inside the bedroom"), and only then. Every such phrase
+/// is an `attachment` mention, none of them underdetermined.
+#[test]
+fn an_anchor_room_a_reader_could_attach_to_the_head_is_said_as_a_clause() {
+    use crate::suite::realise::Speaker;
+    use crate::suite::refs::{ObjRef, nearest_with_margin, room_descriptions};
+    use rand::SeedableRng;
+    let map = m2rc_stdlib::demo::demo_map().unwrap();
+    let ix = MapIndex::new(&map);
+    let heads: Vec<String> = ix.objects_by_cat.keys().cloned().collect();
+    let mut anchors: Vec<String> = heads.clone();
+    anchors.extend(ix.fixtures_by_cat.keys().cloned());
+    let (mut reworded, mut plain) = (0, 0);
+    for ycat in &anchors {
+        for &y in ix.all_of_cat(ycat) {
+            let Some(room) = ix.object_room(y) else {
+                continue;
+            };
+            let Some(rr) = room_descriptions(&ix, room, 1).into_iter().next() else {
+                continue;
+            };
+            let anchor = ObjRef::InRoom {
+                cat: ycat.clone(),
+                room: rr.clone(),
+            };
+            if anchor.resolve(&ix, None) != [y] {
+                continue;
+            }
+            for xcat in heads.iter().filter(|x| *x != ycat) {
+                let desc = ObjRef::Nearest {
+                    cat: xcat.clone(),
+                    room: None,
+                    anchor: Box::new(anchor.clone()),
+                };
+                let gold = desc.resolve(&ix, None);
+                if gold.len() != 1 {
+                    continue;
+                }
+                // The other attachment: the Xs of the room, nearest to "the Y" read bare.
+                let pool = Reader::in_rooms(&ix, xcat, &rr.resolve(&ix));
+                let other: Vec<u32> = match Reader::default().bare(&ix, ycat).as_slice() {
+                    [a] => nearest_with_margin(&ix, &pool, *a).into_iter().collect(),
+                    _ => pool,
+                };
+                let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(y as u64);
+                let mut sp = Speaker::new(&mut rng);
+                let (text, read) = desc.said(&ix, &mut sp);
+                assert_eq!(read, gold, "{text}");
+                let clause = text.contains(" that is ");
+                assert_eq!(clause, other != gold, "{text}: other reading {other:?}");
+                if clause {
+                    reworded += 1;
+                } else {
+                    plain += 1;
+                }
+                assert_eq!(sp.reader.record.checked["attachment"], 1, "{text}");
+                assert!(sp.reader.record.underdetermined.is_empty(), "{text}");
+            }
+        }
+    }
+    assert!(
+        reworded > 0 && plain > 0,
+        "{reworded} reworded, {plain} plain"
+    );
+}

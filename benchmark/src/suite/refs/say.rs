@@ -76,14 +76,16 @@ impl ObjRef {
                 (format!("the {}", sp.noun(cat)), sp.reader.bare(ix, cat))
             }
             ObjRef::InRoom { cat, room } => {
+                let relative = std::mem::take(&mut sp.relative_room);
                 let n = sp.noun(cat);
                 let prep = ["in", "in", "inside"]
                     .choose(sp.rng)
                     .copied()
                     .unwrap_or("in");
                 let (r, rooms) = sp.room_said(ix, room, "room");
+                let that = if relative { "that is " } else { "" };
                 (
-                    format!("the {n} {prep} {r}"),
+                    format!("the {n} {that}{prep} {r}"),
                     Reader::in_rooms(ix, cat, &rooms),
                 )
             }
@@ -109,14 +111,41 @@ impl ObjRef {
                     .copied()
                     .unwrap_or("nearest to");
                 let rel = if rel == "nearest the" { "nearest" } else { rel };
+                let head_room = room.as_ref().filter(|r| !sp.is_implied(ix, r));
+                // "The chair closest to the window in the bedroom": a reader may attach the
+                // anchor's room to the chair. When that reading picks another chair, the anchor
+                // says "the window that is in the bedroom", which attaches to the window only.
+                let anchor_room = head_room
+                    .is_none()
+                    .then(|| self.anchor_room_misread(ix, sp, cat, anchor))
+                    .flatten();
+                sp.relative_room = anchor_room == Some(true);
                 let (a, anchors) = anchor.said_anchor(ix, sp);
-                let (text, pool) = match room.as_ref().filter(|r| !sp.is_implied(ix, r)) {
+                sp.relative_room = false;
+                if anchor_room.is_some() {
+                    // As written, the room attaches to the anchor alone.
+                    let gold = self.resolve(ix, sp.reader.start);
+                    sp.reader.note("attachment", &a, gold.clone(), gold);
+                }
+                let (text, pool) = match head_room {
                     Some(room) => {
                         let (r, rooms) = sp.room_said(ix, room, "room");
-                        let text = if sp.rng.random_bool(0.5) {
-                            format!("the {n} in {r} {rel} {a}")
-                        } else {
+                        // "The chair closest to the window in the bedroom", the bedroom being
+                        // the chair's: a reader may take it for the window's. Said first
+                        // ("the chair in the bedroom closest to the window") when that reading
+                        // picks another chair.
+                        let after = sp.rng.random_bool(0.5);
+                        let misread = after && self.head_room_misread(ix, sp, &rooms, &anchors);
+                        if after {
+                            // As written, the room follows the object it belongs to, or is
+                            // read with it either way.
+                            let gold = self.resolve(ix, sp.reader.start);
+                            sp.reader.note("attachment", &r, gold.clone(), gold);
+                        }
+                        let text = if after && !misread {
                             format!("the {n} {rel} {a} in {r}")
+                        } else {
+                            format!("the {n} in {r} {rel} {a}")
                         };
                         (text, Reader::in_rooms(ix, cat, &rooms))
                     }
@@ -184,5 +213,69 @@ impl ObjRef {
                 (format!("the {n}{tail} that is not on {art} {o}"), read)
             }
         }
+    }
+
+    /// Whether "the X nearest the Y in R" (this description, `cat` the X, `anchor` "the Y in
+    /// R") read with "in R" attached to the X picks something other than the gold's object;
+    /// `None` when the anchor ends in no room. The other reading: the Xs of R, nearest the Y as
+    /// read bare.
+    fn anchor_room_misread(
+        &self,
+        ix: &MapIndex<'_>,
+        sp: &Speaker<'_>,
+        cat: &str,
+        anchor: &ObjRef,
+    ) -> Option<bool> {
+        let ObjRef::InRoom {
+            cat: anchor_cat,
+            room,
+        } = anchor
+        else {
+            return None;
+        };
+        if sp.is_implied(ix, room) {
+            return None;
+        }
+        let pool = Reader::in_rooms(ix, cat, &room.resolve(ix));
+        let read: Vec<u32> = match sp.reader.bare(ix, anchor_cat).as_slice() {
+            [a] => nearest_with_margin(ix, &pool, *a).into_iter().collect(),
+            _ => pool,
+        };
+        let mut gold = self.resolve(ix, sp.reader.start);
+        gold.sort_unstable();
+        let mut read = read;
+        read.sort_unstable();
+        Some(read != gold)
+    }
+
+    /// Whether "the X nearest the Y in R" (R the X's room, read as `rooms`; the Y read as
+    /// `anchors`) read with "in R" attached to the Y picks something other than the gold's
+    /// object. The other reading: the Xs of the reader's scope (else of the house), nearest
+    /// the Ys of R.
+    fn head_room_misread(
+        &self,
+        ix: &MapIndex<'_>,
+        sp: &Speaker<'_>,
+        rooms: &[u32],
+        anchors: &[u32],
+    ) -> bool {
+        let ObjRef::Nearest { cat, .. } = self else {
+            return false;
+        };
+        let in_room: Vec<u32> = anchors
+            .iter()
+            .copied()
+            .filter(|&a| ix.object_room(a).is_some_and(|r| rooms.contains(&r)))
+            .collect();
+        let pool = sp.reader.head(ix, cat);
+        let read: Vec<u32> = match in_room.as_slice() {
+            [a] => nearest_with_margin(ix, &pool, *a).into_iter().collect(),
+            _ => pool,
+        };
+        let mut gold = self.resolve(ix, sp.reader.start);
+        gold.sort_unstable();
+        let mut read = read;
+        read.sort_unstable();
+        read != gold
     }
 }
