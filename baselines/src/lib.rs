@@ -30,6 +30,8 @@
 
 pub mod calls;
 pub mod common;
+pub mod lang2ltl;
+pub mod limp;
 pub mod registry;
 
 pub use calls::{GOLD_LABEL, ModelSetup, Session};

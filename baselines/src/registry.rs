@@ -17,7 +17,16 @@ pub struct Baseline {
 }
 
 /// Every baseline, in Table I's order.
-pub const BASELINES: &[Baseline] = &[];
+pub const BASELINES: &[Baseline] = &[
+    Baseline {
+        name: crate::lang2ltl::NAME,
+        make: crate::lang2ltl::make,
+    },
+    Baseline {
+        name: crate::limp::NAME,
+        make: crate::limp::make,
+    },
+];
 
 /// The names of [`BASELINES`].
 pub fn baseline_names() -> Vec<&'static str> {

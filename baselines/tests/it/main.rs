@@ -2,4 +2,7 @@
 //! through the batch round trip, and each method's pipeline.
 
 mod calls;
+mod gold;
+mod methods;
+mod planners;
 mod support;
