@@ -31,6 +31,7 @@
 pub mod calls;
 pub mod common;
 pub mod lang2ltl;
+pub mod lang2ltl2;
 pub mod limp;
 pub mod registry;
 

@@ -156,7 +156,7 @@ pub fn lift(
 
 /// `text` with every case-insensitive, whole-word occurrence of `what` replaced by `with` ("the
 /// bed" is not replaced inside "the bedroom").
-fn replace_ci(text: &str, what: &str, with: &str) -> String {
+pub(crate) fn replace_ci(text: &str, what: &str, with: &str) -> String {
     if what.is_empty() {
         return text.to_string();
     }

@@ -289,14 +289,16 @@ fn tie_break<'i>(
             .then(a.name.cmp(&b.name))
     });
     cands.truncate(TIE_BREAK_CANDIDATES);
+    let n = search.n();
     let mut ranked: Vec<(f64, &Ap)> = vec![];
     for a in cands {
-        let region: Vec<Cell> = match a.kind {
+        let region: Vec<usize> = match a.kind {
             ApKind::Room(id) => map
                 .map
                 .room_cells(id)
                 .into_iter()
                 .filter(|c| search.is_free(*c))
+                .map(|c| c.row as usize * n + c.col as usize)
                 .collect(),
             ApKind::Object(_) => {
                 let m = planner::near_region(
@@ -304,16 +306,21 @@ fn tie_break<'i>(
                     &ground::instance_cells(&map.map, a),
                     planner::NEAR_CELLS,
                 );
-                let n = search.n();
                 m.iter()
                     .enumerate()
                     .filter(|(_, v)| **v)
-                    .map(|(i, _)| Cell::new((i / n) as u32, (i % n) as u32))
+                    .map(|(i, _)| i)
                     .collect()
             }
         };
-        if let Ok(p) = search.path_to_any(start, &region, None) {
-            ranked.push((p.cost, a));
+        // One distance field from the start serves every candidate.
+        let dist = search.distances_from(start);
+        let d = region
+            .iter()
+            .map(|&i| dist[i])
+            .fold(f64::INFINITY, f64::min);
+        if d.is_finite() {
+            ranked.push((d, a));
         }
     }
     ranked.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.name.cmp(&y.1.name)));

@@ -343,3 +343,46 @@ fn lang2ltl_batch_round_trip() {
         .unwrap();
     assert_eq!(live.trajectory, p.trajectory);
 }
+
+#[test]
+fn lang2ltl2_one_recogniser_call_spatial_grounding_and_no_repair() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut server = mockito::Server::new();
+    let (_c, _e, _) = serve(
+        &mut server,
+        |k, _, body| {
+            let sys = body["messages"][0]["content"].as_str().unwrap();
+            if sys.contains("exactly three lines") {
+                completion(
+                    "Referring Expressions: ['the bed', 'the toilet']\nSpatial Predicates: [{'close to': ['the toilet', 'the bed']}, {'is under': ['the bed', 'the toilet']}]\nLifted Command: \"go to a, then b\"",
+                )
+            } else {
+                assert_eq!(k, "translate");
+                completion("F & a") // malformed: no repair, the target sequence is planned
+            }
+        },
+        |_| None,
+    );
+    let setup = Arc::new(server_setup(&server.url(), &tmp.path().join("c"), None));
+    let map = demo();
+    let p = m2rc_baselines::lang2ltl2::make(setup)
+        .predict(&map, &episode(&map, TEXT))
+        .unwrap();
+    let b = block(&p, "lang2ltl-2");
+    assert_eq!(
+        steps(&p, "lang2ltl-2"),
+        [
+            "srer",
+            "landmark_embeddings",
+            "expression_embeddings",
+            "known_relation_embeddings",
+            "relation_embedding_1",
+            "translate"
+        ],
+        "{b}"
+    );
+    assert_eq!(b["spg"][0]["as"], "near");
+    assert!(b["lt_error"].is_string());
+    assert_eq!(b["formula_source"], "target sequence");
+    assert!(p.status.is_none(), "{b}");
+}
