@@ -16,16 +16,17 @@ pub struct Baseline {
     pub make: fn(Arc<ModelSetup>) -> Box<dyn Method>,
 }
 
+impl Baseline {
+    pub const fn new(name: &'static str, make: fn(Arc<ModelSetup>) -> Box<dyn Method>) -> Self {
+        Baseline { name, make }
+    }
+}
+
 /// Every baseline, in Table I's order.
 pub const BASELINES: &[Baseline] = &[
-    Baseline {
-        name: crate::lang2ltl::NAME,
-        make: crate::lang2ltl::make,
-    },
-    Baseline {
-        name: crate::limp::NAME,
-        make: crate::limp::make,
-    },
+    Baseline::new(crate::lang2ltl::NAME, crate::lang2ltl::make),
+    Baseline::new(crate::lang2ltl2::NAME, crate::lang2ltl2::make),
+    Baseline::new(crate::limp::NAME, crate::limp::make),
 ];
 
 /// The names of [`BASELINES`].

@@ -51,7 +51,7 @@ fn gold_replies_run_every_episode_offline_and_deterministically() {
     let tmp = tempfile::tempdir().unwrap();
     let suite = tmp.path().join("suite");
     let m = build(&suite, 4);
-    assert!(m2rc_baselines::BASELINES.len() >= 2);
+    assert!(m2rc_baselines::BASELINES.len() >= 3);
     for b in m2rc_baselines::BASELINES {
         let method = (b.make)(gold());
         let (one, two) = (
