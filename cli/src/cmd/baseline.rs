@@ -193,6 +193,7 @@ fn render(name: &str, block: &Value, route: &[m2rc_stdlib::grid::Cell], resoluti
             Err(e) => out += &format!("automaton: not built ({e})\n"),
         }
     }
+    // `+ 0.0` prints an empty route as 0.0, not -0.0.
     let len: f64 = route.windows(2).map(|w| w[0].dist(w[1])).sum::<f64>() * resolution + 0.0;
     out += &format!("route: {} cells, {len:.1} m\n", route.len());
     out
