@@ -30,7 +30,9 @@
 
 pub mod calls;
 pub mod common;
+pub mod iln;
 pub mod registry;
+pub mod sayplan;
 
 pub use calls::{GOLD_LABEL, ModelSetup, Session};
 pub use common::failure::Failure;

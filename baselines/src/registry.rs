@@ -17,7 +17,16 @@ pub struct Baseline {
 }
 
 /// Every baseline, in Table I's order.
-pub const BASELINES: &[Baseline] = &[];
+pub const BASELINES: &[Baseline] = &[
+    Baseline {
+        name: crate::sayplan::method::NAME,
+        make: crate::sayplan::method::make,
+    },
+    Baseline {
+        name: crate::iln::method::NAME,
+        make: crate::iln::method::make,
+    },
+];
 
 /// The names of [`BASELINES`].
 pub fn baseline_names() -> Vec<&'static str> {

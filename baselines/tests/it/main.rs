@@ -2,4 +2,7 @@
 //! through the batch round trip, and each method's pipeline.
 
 mod calls;
+mod graphs_mock;
+mod iln_graph;
+mod sayplan_loop;
 mod support;
