@@ -3,6 +3,7 @@
 pub mod ablate;
 pub mod bench;
 pub mod bench_import;
+pub mod bench_table1;
 pub mod check;
 pub mod compile;
 pub mod eval;
