@@ -110,7 +110,8 @@ impl SceneGraph {
                 children: vec![],
             });
         }
-        let room_node = |id: u32| 2 + map.rooms.iter().position(|r| r.id == id).unwrap_or(0);
+        // Rooms are nodes 2.. in map order; an id that names no room has no node.
+        let room_node = |id: u32| map.rooms.iter().position(|r| r.id == id).map(|i| 2 + i);
         for o in &map.objects {
             let at_centre = {
                 let (r, c) = (o.center[0].round(), o.center[1].round());
@@ -129,7 +130,12 @@ impl SceneGraph {
                     })
                     .map(|(id, _, _)| *id)
             };
-            let room = o.room.or(at_centre).or_else(nearest_room);
+            let known = |r: &u32| map.room(*r).is_some();
+            let room = o
+                .room
+                .filter(known)
+                .or(at_centre.filter(known))
+                .or_else(nearest_room);
             let idx = nodes.len();
             nodes.push(Node {
                 id: format!("object_{}", o.id),
@@ -143,20 +149,17 @@ impl SceneGraph {
                 attributes: o.attributes.clone(),
                 children: vec![],
             });
-            if let Some(r) = room {
-                nodes[room_node(r)].children.push(idx);
+            if let Some(r) = room.and_then(room_node) {
+                nodes[r].children.push(idx);
             }
         }
         nodes[0].children = (2..2 + map.rooms.len()).collect();
         let adjacent = map
             .room_adjacency()
             .into_iter()
-            .map(|(a, b)| (room_node(a), room_node(b)))
+            .filter_map(|(a, b)| Some((room_node(a)?, room_node(b)?)))
             .collect();
-        let agent_room = match map.room_at(start) {
-            0 => None,
-            r => map.room(r).map(|_| room_node(r)),
-        };
+        let agent_room = room_node(map.room_at(start));
         SceneGraph {
             nodes,
             adjacent,
