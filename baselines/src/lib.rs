@@ -31,6 +31,9 @@
 pub mod calls;
 pub mod common;
 pub mod iln;
+pub mod lang2ltl;
+pub mod lang2ltl2;
+pub mod limp;
 pub mod registry;
 pub mod sayplan;
 

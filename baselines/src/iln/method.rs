@@ -4,7 +4,7 @@
 
 use super::graph::AreaGraph;
 use crate::ModelSetup;
-use crate::calls::Session;
+use crate::calls::{GOLD_LABEL, Session};
 use crate::common::failure::{Failure, PENDING, prediction};
 use crate::common::gold::Gold;
 use crate::common::grid::GridSearch;
@@ -71,7 +71,13 @@ impl Method for Iln {
         };
         block.insert("calls".into(), json!(session.calls));
         block.insert("model".into(), json!(self.setup.label()));
-        Ok(finish(NAME, out.status, out.trajectory, block))
+        block.insert("gold_replies".into(), json!(self.setup.is_gold()));
+        let notes = gold_note(
+            &self.setup,
+            "the destination is the room of the last annotated target, every passage at the \
+             neutral cost",
+        );
+        Ok(finish(NAME, out.status, out.trajectory, block, notes))
     }
 }
 
@@ -82,6 +88,7 @@ pub fn finish(
     status: String,
     route: Vec<m2rc_stdlib::grid::Cell>,
     block: serde_json::Map<String, Value>,
+    notes: Vec<String>,
 ) -> Prediction {
     if status == PENDING {
         let message = block
@@ -89,9 +96,9 @@ pub fn finish(
             .and_then(Value::as_str)
             .unwrap_or("waiting for a batch reply")
             .to_string();
-        return prediction(key, Err(Failure::new(PENDING, message)), block, vec![]);
+        return prediction(key, Err(Failure::new(PENDING, message)), block, notes);
     }
-    let mut p = prediction(key, Ok(route), block, vec![]);
+    let mut p = prediction(key, Ok(route), block, notes);
     if status != "ok" {
         p.status = Some(status);
     }
@@ -114,4 +121,13 @@ pub fn drive_start(map: &SemanticMap, episode: &Episode) -> Result<Cell, MethodE
             s.row, s.col
         ))
     })
+}
+
+/// The record's note of a gold run: the label and what the oracle answered.
+pub fn gold_note(setup: &ModelSetup, what: &str) -> Vec<String> {
+    if setup.is_gold() {
+        vec![format!("{GOLD_LABEL}: {what}")]
+    } else {
+        vec![]
+    }
 }

@@ -1,13 +1,13 @@
 //! SayPlan as a benchmark method: builds the scene graph for the episode, runs the search and
 //! planning loops through the baselines' LLM-call helper, and writes the accepted route (or the
-//! longest attempted one) with the `SayPlan` block.
+//! longest attempted one) with the `sayplan` block.
 
 use super::graph::SceneGraph;
 use crate::ModelSetup;
 use crate::calls::Session;
 use crate::common::gold::Gold;
 use crate::common::grid::GridSearch;
-use crate::iln::method::{drive_start, finish};
+use crate::iln::method::{drive_start, finish, gold_note};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap};
 use serde_json::{Value, json};
@@ -63,8 +63,14 @@ impl Method for SayPlan {
             _ => serde_json::Map::new(),
         };
         block.insert("inference_contract_version".into(), json!(2));
-        block.insert("calls_made".into(), json!(session.calls));
+        block.insert("calls".into(), json!(session.calls));
         block.insert("model".into(), json!(self.setup.label()));
-        Ok(finish("SayPlan", out.status, out.trajectory, block))
+        block.insert("gold_replies".into(), json!(self.setup.is_gold()));
+        let notes = gold_note(
+            &self.setup,
+            "the search expands each room holding an annotated target object, the plan goes to \
+             the targets in order",
+        );
+        Ok(finish(NAME, out.status, out.trajectory, block, notes))
     }
 }

@@ -72,9 +72,9 @@ fn sayplan_over_a_mock_server_then_from_the_cache() {
     let p = method.predict(&map, &episode()).unwrap();
     mock.assert();
     assert_eq!(p.status, None, "{:?}", p.extra);
-    let block = &p.extra["SayPlan"];
+    let block = &p.extra["sayplan"];
     assert_eq!(block["status"], "ok");
-    let steps: Vec<&str> = block["calls_made"]
+    let steps: Vec<&str> = block["calls"]
         .as_array()
         .unwrap()
         .iter()

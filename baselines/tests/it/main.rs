@@ -2,7 +2,10 @@
 //! through the batch round trip, and each method's pipeline.
 
 mod calls;
+mod gold;
 mod graphs_mock;
 mod iln_graph;
+mod methods;
+mod planners;
 mod sayplan_loop;
 mod support;
