@@ -30,10 +30,12 @@
 
 pub mod calls;
 pub mod common;
+pub mod iln;
 pub mod lang2ltl;
 pub mod lang2ltl2;
 pub mod limp;
 pub mod registry;
+pub mod sayplan;
 
 pub use calls::{GOLD_LABEL, ModelSetup, Session};
 pub use common::failure::Failure;

@@ -3,6 +3,9 @@
 
 mod calls;
 mod gold;
+mod graphs_mock;
+mod iln_graph;
 mod methods;
 mod planners;
+mod sayplan_loop;
 mod support;

@@ -7,6 +7,7 @@ pub mod model;
 pub mod plot;
 pub mod score;
 pub mod table;
+pub mod table1;
 
 use crate::rundir::collect::collect;
 use crate::runner::RunError;
@@ -61,8 +62,19 @@ fn display_name(method: &str, dirs: &[std::path::PathBuf]) -> String {
                 == Some("simulated")
         })
     });
+    let gold = dirs.iter().any(|d| {
+        crate::runner::read_run_manifest(d).is_ok_and(|m| {
+            m.method_config
+                .as_ref()
+                .and_then(|c| c.pointer("/model/backend/backend"))
+                .and_then(Value::as_str)
+                == Some("gold")
+        })
+    });
     if simulated {
         format!("{method} [SIMULATED model]")
+    } else if gold {
+        format!("{method} [GOLD replies]")
     } else {
         method.to_string()
     }

@@ -28,6 +28,8 @@ pub enum BenchCommand {
     Import(super::bench_import::ImportArgs),
     /// Table I, the difficulty analysis, plots, and per-episode pictures.
     Report(ReportArgs),
+    /// Table I in one command: every method of the table, then the table and Figure 4.
+    Table1(Box<super::bench_table1::Table1Args>),
 }
 
 #[derive(Args)]
@@ -106,6 +108,10 @@ pub struct ReportArgs {
     /// Write the difficulty-analysis bar charts (PNG) into this directory.
     #[arg(long)]
     pub plots: Option<PathBuf>,
+    /// Table I in the paper's layout (its row order, the delta vs best baseline, the paper's
+    /// published rows beside ours; the ceilings table when every baseline had gold replies).
+    #[arg(long)]
+    pub paper: bool,
     /// Draw these episodes (`<map_id>/instruction_<id>`), one PNG per run, into --png-dir.
     #[arg(long)]
     pub episode: Vec<String>,
@@ -129,6 +135,7 @@ pub fn run(command: BenchCommand) -> Result<ExitCode> {
         BenchCommand::Merge(a) => merge(a),
         BenchCommand::Import(a) => super::bench_import::run(a),
         BenchCommand::Report(a) => report_cmd(a),
+        BenchCommand::Table1(a) => super::bench_table1::run(*a),
     }
 }
 
@@ -139,7 +146,7 @@ pub(crate) fn show_progress() -> bool {
     std::io::stderr().is_terminal() && !ci
 }
 
-fn run_method(a: RunArgs) -> Result<ExitCode> {
+pub(crate) fn run_method(a: RunArgs) -> Result<ExitCode> {
     crate::outputs::refuse_run_into_suite(&a.out, &a.suite)?;
     let mut model_method = None;
     let mut baseline_setup = None;
@@ -336,6 +343,10 @@ fn report_cmd(a: ReportArgs) -> Result<ExitCode> {
         },
     )?;
     let text = match a.format {
+        ReportFormat::Md if a.paper => {
+            let ceilings = runs.iter().any(|r| r.method.ends_with("[GOLD replies]"));
+            report::table1::markdown(&runs, ceilings)
+        }
         ReportFormat::Md => report::markdown_report_with(
             &runs,
             &report::model::Prices {

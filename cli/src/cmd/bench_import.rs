@@ -45,6 +45,14 @@ pub fn run(a: ImportArgs) -> Result<ExitCode> {
         std::slice::from_ref(&a.suite),
         "--suite folder",
     )?;
+    if m2rc_baselines::is_baseline(&a.method) {
+        // Read as a refused run (status 1), like the names of m2rc's own methods.
+        anyhow::bail!(m2rc_benchmark::runner::RunError::Invalid(format!(
+            "--method `{}` is one of m2rc's own methods (a baseline of Table I); give the \
+             imported routes a name of their own",
+            a.method
+        )));
+    }
     let s = import(&ImportOptions {
         suite: a.suite,
         predictions: a.predictions,

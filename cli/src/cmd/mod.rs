@@ -4,6 +4,7 @@ pub mod ablate;
 pub mod baseline;
 pub mod bench;
 pub mod bench_import;
+pub mod bench_table1;
 pub mod check;
 pub mod compile;
 pub mod eval;

@@ -112,6 +112,8 @@ fn the_quick_start_and_score_your_method_run_as_written() {
             runs[0].stdout
         );
         assert!(runs[1].stdout.contains("| bfs |"), "{}", runs[1].stdout);
+        // bench table1 ranks the imported run beside the methods of Table I.
+        assert!(runs[2].stdout.contains("| bfs |"), "{}", runs[2].stdout);
     } else {
         eprintln!("note: no python3 here; the script of \"Score your own method\" was not run");
     }

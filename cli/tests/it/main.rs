@@ -17,4 +17,5 @@ mod import_cli;
 mod lsp_stdio;
 mod ltl_cli;
 mod run_cli;
+mod table1_cli;
 mod usability_cli;
