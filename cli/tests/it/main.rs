@@ -16,5 +16,6 @@ mod faults_rundir;
 mod import_cli;
 mod lsp_stdio;
 mod ltl_cli;
+mod robot_out;
 mod run_cli;
 mod usability_cli;
