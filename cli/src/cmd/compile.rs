@@ -60,9 +60,13 @@ pub struct CompileArgs {
     /// LTL planner.
     #[arg(long, value_enum)]
     pub planner: Option<Planner>,
-    /// Start cell `row,col` (default: the episode's start, else the map's start).
-    #[arg(long, value_parser = parse_cell)]
-    pub start: Option<Cell>,
+    /// Start `x,y` in metres in the map's frame (`docs/maps.md`, "The map frame"; default:
+    /// the episode's start, else the map's start).
+    #[arg(long, value_parser = crate::cmd::route_out::parse_xy, allow_hyphen_values = true, conflicts_with = "start_cell")]
+    pub start: Option<[f64; 2]>,
+    /// Start cell `row,col`.
+    #[arg(long, value_parser = crate::cmd::route_out::parse_cell)]
+    pub start_cell: Option<Cell>,
     /// Summary and diagnostics as text or as JSON.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub format: Format,
@@ -110,21 +114,6 @@ pub enum Planner {
 pub enum Format {
     Text,
     Json,
-}
-
-fn parse_cell(s: &str) -> Result<Cell, String> {
-    let (r, c) = s
-        .split_once(',')
-        .ok_or_else(|| format!("`{s}` is not `row,col`"))?;
-    let r = r
-        .trim()
-        .parse::<u32>()
-        .map_err(|e| format!("row `{r}`: {e}"))?;
-    let c = c
-        .trim()
-        .parse::<u32>()
-        .map_err(|e| format!("col `{c}`: {e}"))?;
-    Ok(Cell::new(r, c))
 }
 
 /// The `// map: <path|demo>` line of a program, if any (first non-empty line).
@@ -235,7 +224,8 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             "--emit mcap writes a binary recording: pass `-o route.mcap` (or `-o -` for standard output)"
         )));
     }
-    let mut start = args.start;
+    let mut start =
+        crate::cmd::route_out::start_from(args.start, args.start_cell, &frame, map.n())?;
     if let Some((name, _, ep)) = &episode {
         m2rc_benchmark::episode_check::check_episode(ep, Some(map.n()), name).map_err(unusable)?;
         if kind == m2rc_stdlib::load::SourceKind::Map2RouteMap {
@@ -254,7 +244,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         let n = map.n();
         if s.row as usize >= n || s.col as usize >= n {
             return Err(unusable(anyhow::anyhow!(
-                "--start {},{} is outside the map: the grid is {n}x{n} cells (rows and columns 0..{})",
+                "--start-cell {},{} is outside the map: the grid is {n}x{n} cells (rows and columns 0..{})",
                 s.row,
                 s.col,
                 n.saturating_sub(1)
@@ -716,8 +706,11 @@ mod tests {
         assert_eq!(map_line("// map: demo\nroute { go start }"), Some("demo"));
         assert_eq!(map_line("\n//map:  ../x.json \n"), Some("../x.json"));
         assert_eq!(map_line("let a = 1"), None);
+        use crate::cmd::route_out::{parse_cell, parse_xy};
         assert_eq!(parse_cell("3, 4"), Ok(Cell::new(3, 4)));
         assert!(parse_cell("3").is_err());
+        assert_eq!(parse_xy("-1.5, 2"), Ok([-1.5, 2.0]));
+        assert!(parse_xy("1.5").is_err() && parse_xy("x,1").is_err());
     }
 
     fn compile_example(name: &str) -> CompiledRoute {

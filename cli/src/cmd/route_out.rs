@@ -4,6 +4,7 @@
 use anyhow::{Result, anyhow};
 use m2rc_benchmark::pipeline::{CompiledRoute, stage_ends};
 use m2rc_stdlib::export::{RouteOut, StageMark, geojson, mcap, yaml};
+use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::map::SemanticMap;
 use m2rc_stdlib::map::frame::MapFrame;
 
@@ -63,4 +64,61 @@ pub fn emit(
         RobotEmit::Mcap => mcap::route_mcap(map, frame, &route)
             .map_err(|e| anyhow!("cannot write the MCAP recording: {e}"))?,
     })
+}
+
+pub fn parse_cell(s: &str) -> Result<Cell, String> {
+    let (r, c) = s
+        .split_once(',')
+        .ok_or_else(|| format!("`{s}` is not `row,col`"))?;
+    let r = r
+        .trim()
+        .parse::<u32>()
+        .map_err(|e| format!("row `{r}`: {e}"))?;
+    let c = c
+        .trim()
+        .parse::<u32>()
+        .map_err(|e| format!("col `{c}`: {e}"))?;
+    Ok(Cell::new(r, c))
+}
+
+/// `x,y` in metres.
+pub fn parse_xy(s: &str) -> Result<[f64; 2], String> {
+    let (x, y) = s.split_once(',').ok_or_else(|| {
+        format!("`{s}` is not `x,y` in metres (for a cell: --start-cell row,col)")
+    })?;
+    let num = |v: &str, what: &str| {
+        v.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|f| f.is_finite())
+            .ok_or_else(|| format!("{what} `{v}` is not a number of metres"))
+    };
+    Ok([num(x, "x")?, num(y, "y")?])
+}
+
+/// The start cell from `--start x,y` (metres, map frame) or `--start-cell row,col`.
+pub fn start_from(
+    xy: Option<[f64; 2]>,
+    cell: Option<Cell>,
+    frame: &MapFrame,
+    n: usize,
+) -> Result<Option<Cell>> {
+    let Some([x, y]) = xy else {
+        return Ok(cell);
+    };
+    match frame.map_to_cell(x, y, n) {
+        Some(c) => Ok(Some(c)),
+        None => {
+            let (x0, y0) = frame.corner_to_map(0.0, 0.0);
+            let (x1, y1) = frame.corner_to_map(n as f64, n as f64);
+            Err(crate::io::unusable(anyhow!(
+                "--start {x},{y} is outside the map: its grid covers x {:.2}..{:.2} m and y                  {:.2}..{:.2} m in frame `{}`",
+                x0.min(x1),
+                x0.max(x1),
+                y0.min(y1),
+                y0.max(y1),
+                frame.frame_id
+            )))
+        }
+    }
 }

@@ -39,6 +39,12 @@ pub struct RunArgs {
     /// Draw the route over the map into this PNG.
     #[arg(long)]
     pub png: Option<PathBuf>,
+    /// Start `x,y` in metres in the map's frame (default: the map's start).
+    #[arg(long, value_parser = crate::cmd::route_out::parse_xy, allow_hyphen_values = true, conflicts_with = "start_cell")]
+    pub start: Option<[f64; 2]>,
+    /// Start cell `row,col`.
+    #[arg(long, value_parser = crate::cmd::route_out::parse_cell)]
+    pub start_cell: Option<m2rc_stdlib::grid::Cell>,
     #[command(flatten)]
     pub llm: m2rc_llm::LlmArgs,
     #[command(flatten)]
@@ -84,6 +90,15 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     let frame = m2rc_stdlib::map::frame::MapFrame::of(&doc.map, Some(&doc.extra))
         .map_err(|e| unusable(anyhow::Error::new(e)))?;
     let map = doc.map;
+    let start = crate::cmd::route_out::start_from(args.start, args.start_cell, &frame, map.n())?;
+    if let Some(s) = start.filter(|s| s.row as usize >= map.n() || s.col as usize >= map.n()) {
+        return Err(unusable(anyhow::anyhow!(
+            "--start-cell {},{} is outside the map: the grid is {n}x{n} cells",
+            s.row,
+            s.col,
+            n = map.n()
+        )));
+    }
     if args.emit.robot().is_some_and(|r| r.is_binary()) && args.output.is_none() {
         return Err(unusable(anyhow::anyhow!(
             "--emit mcap writes a binary recording: pass `-o route.mcap`"
@@ -124,6 +139,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         &args.lower.repair_options(),
         &PipelineOptions {
             meter: Some(meter.clone()),
+            start,
             ..PipelineOptions::default()
         },
     );

@@ -3,8 +3,8 @@
 //! Profile `ros2`, schemas `ros2msg` (the message definitions with their dependencies, as
 //! `ros2 bag record` writes them) and messages in `cdr`: the combination both tools decode
 //! without plugins or generated code, and `ros2 bag play` republishes as ordinary topics.
-//! Topics, all in the map frame at time 0, no compression (deterministic bytes, no codec
-//! dependencies):
+//! Topics, all in the map frame at time 0, uncompressed and unchunked (deterministic bytes, no
+//! codec dependencies; readers read the four messages in one pass):
 //!
 //! * `/map` `nav_msgs/msg/OccupancyGrid`: the occupancy layer (free 0, obstacle 100, unknown -1),
 //!   its origin the map frame's origin;
@@ -35,9 +35,15 @@ pub fn route_mcap(
     frame: &MapFrame,
     route: &RouteOut,
 ) -> Result<Vec<u8>, String> {
+    // Unchunked, and no schemas or channels repeated in the summary: the crate writes those
+    // from a hash map, in an order that changes from run to run; readers find both in the data
+    // section (four messages, read in one pass).
     let opts = ::mcap::WriteOptions::new()
         .profile("ros2")
-        .compression(None);
+        .compression(None)
+        .use_chunks(false)
+        .repeat_schemas(false)
+        .repeat_channels(false);
     let mut w = opts
         .create(Cursor::new(Vec::new()))
         .map_err(|e| e.to_string())?;

@@ -8,6 +8,7 @@
 mod cdr;
 pub mod geojson;
 pub mod mcap;
+pub mod nav2;
 mod schemas;
 pub mod thin;
 pub mod yaml;
