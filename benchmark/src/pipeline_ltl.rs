@@ -183,7 +183,7 @@ pub(crate) fn compile_ltl(
                 ProductFailure::StartRejected => (
                     "the start cell already violates the formula (e.g. it lies in an avoided place)"
                         .to_string(),
-                    "start elsewhere (`--start row,col`), or loosen the formula",
+                    "start elsewhere (`--start-cell row,col` or `--start x,y` in metres), or loosen the formula",
                 ),
                 ProductFailure::Budget { expansions } => (
                     format!("the search stopped after {expansions} expansions without an accepting route"),
@@ -191,7 +191,7 @@ pub(crate) fn compile_ltl(
                 ),
                 ProductFailure::StartBlocked => (
                     "the start cell is not traversable".to_string(),
-                    "start on a free cell (`--start row,col`)",
+                    "start on a free cell (`--start-cell row,col` or `--start x,y` in metres)",
                 ),
                 e @ ProductFailure::TooLarge { .. } => (
                     e.to_string(),

@@ -299,6 +299,13 @@ pub fn load_map(arg: &str) -> Result<m2rc_stdlib::map::SemanticMap> {
 pub fn load_map_kind(
     arg: &str,
 ) -> Result<(m2rc_stdlib::map::SemanticMap, m2rc_stdlib::load::SourceKind)> {
+    load_map_doc_kind(arg).map(|(d, k)| (d.map, k))
+}
+
+/// [`load_map_kind`] with the file's content the model has no field for (the map frame).
+pub fn load_map_doc_kind(
+    arg: &str,
+) -> Result<(m2rc_stdlib::map::MapDocument, m2rc_stdlib::load::SourceKind)> {
     let staged = MapArg::new(arg)?;
     let db = asset_db_for(arg, None)?;
     let opts = m2rc_stdlib::load::LoadOptions {
@@ -312,5 +319,5 @@ pub fn load_map_kind(
     let (doc, kind) = m2rc_stdlib::load::load_map_with(&staged.arg, &opts)
         .map_err(|e| unusable(anyhow::Error::new(e).context(format!("cannot load map `{arg}`"))))?;
     warn_without_assets(arg, kind, db.is_some());
-    Ok((doc.map, kind))
+    Ok((doc, kind))
 }

@@ -3,6 +3,7 @@
 
 pub mod builtins;
 pub mod demo;
+pub mod export;
 pub mod field;
 pub mod grid;
 pub mod import;

@@ -41,7 +41,9 @@ pub struct CompileArgs {
     pub output: Option<PathBuf>,
     /// What `-o` receives (`ir` without `-o` prints the RouteIR to stdout). `ltl`, `dfa`, `hoa`
     /// and `dot` are the route's hard constraints as an LTLf formula and its minimal automaton
-    /// (JSON, HOA, Graphviz); without `-o` they go to stdout.
+    /// (JSON, HOA, Graphviz); without `-o` they go to stdout. `nav-path` (a nav_msgs/Path
+    /// YAML), `waypoints` (a Nav2 FollowWaypoints goal), `geojson` and `mcap` (a recording with
+    /// the map, for Foxglove and ros2 bag; needs `-o`) are the route in the map frame.
     #[arg(long, value_enum, default_value_t = Emit::Route)]
     pub emit: Emit,
     /// Draw the route over the map into this PNG. When planning fails, the picture shows the
@@ -58,9 +60,13 @@ pub struct CompileArgs {
     /// LTL planner.
     #[arg(long, value_enum)]
     pub planner: Option<Planner>,
-    /// Start cell `row,col` (default: the episode's start, else the map's start).
-    #[arg(long, value_parser = parse_cell)]
-    pub start: Option<Cell>,
+    /// Start `x,y` in metres in the map's frame (`docs/maps.md`, "The map frame"; default:
+    /// the episode's start, else the map's start).
+    #[arg(long, value_parser = crate::cmd::route_out::parse_xy, allow_hyphen_values = true, conflicts_with = "start_cell")]
+    pub start: Option<[f64; 2]>,
+    /// Start cell `row,col`.
+    #[arg(long, value_parser = crate::cmd::route_out::parse_cell)]
+    pub start_cell: Option<Cell>,
     /// Summary and diagnostics as text or as JSON.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub format: Format,
@@ -74,6 +80,24 @@ pub enum Emit {
     Dfa,
     Hoa,
     Dot,
+    NavPath,
+    Waypoints,
+    Geojson,
+    Mcap,
+}
+
+impl Emit {
+    /// The robot-frame outputs (`docs/maps.md`, "Routes out").
+    pub fn robot(self) -> Option<crate::cmd::route_out::RobotEmit> {
+        use crate::cmd::route_out::RobotEmit;
+        match self {
+            Emit::NavPath => Some(RobotEmit::NavPath),
+            Emit::Waypoints => Some(RobotEmit::Waypoints),
+            Emit::Geojson => Some(RobotEmit::Geojson),
+            Emit::Mcap => Some(RobotEmit::Mcap),
+            _ => None,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -90,21 +114,6 @@ pub enum Planner {
 pub enum Format {
     Text,
     Json,
-}
-
-fn parse_cell(s: &str) -> Result<Cell, String> {
-    let (r, c) = s
-        .split_once(',')
-        .ok_or_else(|| format!("`{s}` is not `row,col`"))?;
-    let r = r
-        .trim()
-        .parse::<u32>()
-        .map_err(|e| format!("row `{r}`: {e}"))?;
-    let c = c
-        .trim()
-        .parse::<u32>()
-        .map_err(|e| format!("col `{c}`: {e}"))?;
-    Ok(Cell::new(r, c))
 }
 
 /// The `// map: <path|demo>` line of a program, if any (first non-empty line).
@@ -200,14 +209,23 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             }
         },
     };
-    let (map, kind) = crate::io::load_map_kind(&map_arg).map_err(|e| match &from_header {
+    let (doc, kind) = crate::io::load_map_doc_kind(&map_arg).map_err(|e| match &from_header {
         Some(line) => unusable(anyhow::anyhow!(
             "{e:#}\nhelp: {}",
             header_map_help(line, &file_name)
         )),
         None => e,
     })?;
-    let mut start = args.start;
+    let frame = m2rc_stdlib::map::frame::MapFrame::of(&doc.map, Some(&doc.extra))
+        .map_err(|e| unusable(anyhow::Error::new(e).context(format!("map `{map_arg}`"))))?;
+    let map = doc.map;
+    if args.emit.robot().is_some_and(|r| r.is_binary()) && args.output.is_none() {
+        return Err(unusable(anyhow::anyhow!(
+            "--emit mcap writes a binary recording: pass `-o route.mcap` (or `-o -` for standard output)"
+        )));
+    }
+    let mut start =
+        crate::cmd::route_out::start_from(args.start, args.start_cell, &frame, map.n())?;
     if let Some((name, _, ep)) = &episode {
         m2rc_benchmark::episode_check::check_episode(ep, Some(map.n()), name).map_err(unusable)?;
         if kind == m2rc_stdlib::load::SourceKind::Map2RouteMap {
@@ -226,7 +244,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         let n = map.n();
         if s.row as usize >= n || s.col as usize >= n {
             return Err(unusable(anyhow::anyhow!(
-                "--start {},{} is outside the map: the grid is {n}x{n} cells (rows and columns 0..{})",
+                "--start-cell {},{} is outside the map: the grid is {n}x{n} cells (rows and columns 0..{})",
                 s.row,
                 s.col,
                 n.saturating_sub(1)
@@ -274,6 +292,10 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         ),
         None => None,
     };
+    let robot = match args.emit.robot() {
+        Some(kind) => Some(crate::cmd::route_out::emit(kind, &map, &frame, &compiled)?),
+        None => None,
+    };
     let png = match &args.png {
         Some(_) => Some(
             render_map(
@@ -291,6 +313,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     match (&args.output, args.emit) {
         (Some(out), Emit::Route) => write_atomic(out, route_json.as_bytes())?,
         (Some(out), Emit::Ir) => write_atomic(out, ir_json.as_bytes())?,
+        (Some(out), _) if robot.is_some() => write_atomic(out, robot.as_deref().unwrap_or(&[]))?,
         (Some(out), _) => write_atomic(out, ltl_text.as_deref().unwrap_or("").as_bytes())?,
         (None, _) => {}
     }
@@ -318,6 +341,8 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             }
             if args.emit == Emit::Ir && args.output.is_none() {
                 say(format!("{ir_json}\n"))?;
+            } else if let (Some(bytes), None) = (&robot, &args.output) {
+                crate::io::stdout_bytes(bytes)?;
             } else if let (Some(text), None) = (&ltl_text, &args.output) {
                 say(text.clone())?;
             } else {
@@ -378,7 +403,9 @@ fn shown_map(map: &SemanticMap, c: &CompiledRoute) -> SemanticMap {
 fn ltl_emit(e: Emit) -> Option<m2rc_compiler::ltl::EmitKind> {
     use m2rc_compiler::ltl::EmitKind;
     match e {
-        Emit::Route | Emit::Ir => None,
+        Emit::Route | Emit::Ir | Emit::NavPath | Emit::Waypoints | Emit::Geojson | Emit::Mcap => {
+            None
+        }
         Emit::Ltl => Some(EmitKind::Ltl),
         Emit::Dfa => Some(EmitKind::Dfa),
         Emit::Hoa => Some(EmitKind::Hoa),
@@ -679,8 +706,11 @@ mod tests {
         assert_eq!(map_line("// map: demo\nroute { go start }"), Some("demo"));
         assert_eq!(map_line("\n//map:  ../x.json \n"), Some("../x.json"));
         assert_eq!(map_line("let a = 1"), None);
+        use crate::cmd::route_out::{parse_cell, parse_xy};
         assert_eq!(parse_cell("3, 4"), Ok(Cell::new(3, 4)));
         assert!(parse_cell("3").is_err());
+        assert_eq!(parse_xy("-1.5, 2"), Ok([-1.5, 2.0]));
+        assert!(parse_xy("1.5").is_err() && parse_xy("x,1").is_err());
     }
 
     fn compile_example(name: &str) -> CompiledRoute {

@@ -72,6 +72,19 @@ pub struct ImportArgs {
     /// Output Map2Route map JSON; `-` writes standard output.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// What the input is: told apart by content (a house, a map, `demo`), or `nav2`: a
+    /// `map_server` YAML with its PGM/PNG image (`docs/maps.md`, "Nav2 import").
+    #[arg(long, value_enum, default_value_t = From::Auto)]
+    pub from: From,
+    /// With `--from nav2`: the rooms, objects and doors as GeoJSON in the map frame.
+    #[arg(long, requires = "from")]
+    pub semantics: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum From {
+    Auto,
+    Nav2,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -145,6 +158,12 @@ fn load(src: &SourceArgs) -> Result<(MapDocument, SourceKind)> {
 }
 
 fn import(args: ImportArgs) -> Result<ExitCode> {
+    if args.from == From::Nav2 {
+        return import_nav2(&args);
+    }
+    if args.semantics.is_some() {
+        bail!("--semantics belongs to a Nav2 map: pass `--from nav2 map.yaml`");
+    }
     let (doc, kind) = load(&args.source)?;
     if crate::io::is_dash(&args.output) {
         write_stdout(&doc)?;
@@ -165,6 +184,96 @@ fn import(args: ImportArgs) -> Result<ExitCode> {
         kind_name(kind)
     );
     Ok(ExitCode::SUCCESS)
+}
+
+fn import_nav2(args: &ImportArgs) -> Result<ExitCode> {
+    use m2rc_stdlib::import::nav2::{Nav2Options, import_nav2};
+    let yaml = PathBuf::from(&args.source.map);
+    // The image the YAML names is an input too.
+    let image = std::fs::read_to_string(&yaml).ok().and_then(|t| {
+        let dir = yaml.parent().unwrap_or(std::path::Path::new("."));
+        m2rc_stdlib::import::nav2::params::parse_map_yaml(&t, "", dir)
+            .ok()
+            .map(|y| y.image)
+    });
+    for input in std::iter::once(&yaml)
+        .chain(args.semantics.as_ref())
+        .chain(image.as_ref())
+    {
+        if crate::io::is_dash(input) {
+            return Err(crate::io::unusable(anyhow::anyhow!(
+                "--from nav2 reads files (the YAML names its image beside it): standard input is not taken"
+            )));
+        }
+        if !crate::io::is_dash(&args.output)
+            && crate::outputs::resolved(input) == crate::outputs::resolved(&args.output)
+        {
+            return Err(crate::io::unusable(anyhow::anyhow!(
+                "-o {} is an input; write the map elsewhere",
+                args.output.display()
+            )));
+        }
+    }
+    let opts = Nav2Options {
+        robot_radius_m: args.source.grid.robot_radius,
+        max_memory_bytes: args.source.grid.max_memory,
+        map_id: None,
+    };
+    let (doc, notes) = import_nav2(&yaml, args.semantics.as_deref(), &opts).map_err(|e| {
+        crate::io::unusable(anyhow::Error::new(e).context("cannot import the Nav2 map"))
+    })?;
+    for n in notes {
+        eprintln!("note: {n}");
+    }
+    if crate::io::is_dash(&args.output) {
+        write_stdout(&doc)?;
+    } else {
+        write_streamed(&args.output, &doc)?;
+    }
+    let outside = outside_vocabulary(&doc.map);
+    eprintln!(
+        "wrote {} ({} x {} cells, {} rooms, {} objects, from a Nav2 map{})",
+        if crate::io::is_dash(&args.output) {
+            "the map to standard output".to_string()
+        } else {
+            args.output.display().to_string()
+        },
+        doc.map.n(),
+        doc.map.n(),
+        doc.map.rooms.len(),
+        doc.map.objects.len(),
+        if outside.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; categories outside the benchmark vocabulary, kept: {}",
+                outside.join(", ")
+            )
+        }
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Room and object categories the benchmark vocabulary does not have (kept: the language's
+/// category names come from the map), sorted.
+fn outside_vocabulary(map: &SemanticMap) -> Vec<String> {
+    use m2rc_stdlib::map::vocab::{is_benchmark_object_category, is_room_category, is_structure};
+    let mut out: Vec<String> = map
+        .rooms
+        .iter()
+        .map(|r| r.category.as_str())
+        .filter(|c| !is_room_category(c))
+        .chain(
+            map.objects
+                .iter()
+                .map(|o| o.category.as_str())
+                .filter(|c| !is_benchmark_object_category(c) && !is_structure(c)),
+        )
+        .map(str::to_string)
+        .collect();
+    out.sort();
+    out.dedup();
+    out
 }
 
 /// Writes the map JSON to standard output, streamed like [`write_streamed`]; a closed pipe ends
@@ -287,6 +396,7 @@ fn info_json(map: &SemanticMap) -> serde_json::Value {
         })).collect::<Vec<_>>(),
         "object_count": map.objects.len(),
         "categories": map.category_counts(),
+        "outside_vocabulary": outside_vocabulary(map),
         "adjacency": adjacency.iter().map(|(a, b)| [a, b]).collect::<Vec<_>>(),
         "links": links.iter().map(|(a, b, k)| json!({"rooms": [a, b], "kind": k.name()})).collect::<Vec<_>>(),
         "open_areas": open_areas(map),
@@ -335,6 +445,14 @@ fn info_text(map: &SemanticMap) -> String {
     for chunk in sorted.chunks(4) {
         let line: Vec<String> = chunk.iter().map(|(c, k)| format!("{c} {k}")).collect();
         let _ = writeln!(s, "  {}", line.join(", "));
+    }
+    let outside = outside_vocabulary(map);
+    if !outside.is_empty() {
+        let _ = writeln!(
+            s,
+            "outside the benchmark vocabulary: {}",
+            outside.join(", ")
+        );
     }
     let name = |id: u32| {
         map.room(id)

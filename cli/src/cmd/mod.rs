@@ -14,5 +14,6 @@ pub mod ltl;
 pub mod map;
 pub mod map_check;
 pub mod prompt;
+pub mod route_out;
 pub mod run;
 pub mod suite;

@@ -31,12 +31,20 @@ pub struct RunArgs {
     /// Where to write the route (or the program with `--emit m2r`, the RouteIR with `--emit ir`).
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
-    /// What `-o` receives: the route, the program the model wrote (`m2r`), or the RouteIR (`ir`).
+    /// What `-o` receives: the route, the program the model wrote (`m2r`), the RouteIR (`ir`),
+    /// or the route in the map frame (`nav-path`, `waypoints`, `geojson`, `mcap`, as in
+    /// `m2rc compile`).
     #[arg(long, value_enum, default_value_t = RunEmit::Route)]
     pub emit: RunEmit,
     /// Draw the route over the map into this PNG.
     #[arg(long)]
     pub png: Option<PathBuf>,
+    /// Start `x,y` in metres in the map's frame (default: the map's start).
+    #[arg(long, value_parser = crate::cmd::route_out::parse_xy, allow_hyphen_values = true, conflicts_with = "start_cell")]
+    pub start: Option<[f64; 2]>,
+    /// Start cell `row,col`.
+    #[arg(long, value_parser = crate::cmd::route_out::parse_cell)]
+    pub start_cell: Option<m2rc_stdlib::grid::Cell>,
     #[command(flatten)]
     pub llm: m2rc_llm::LlmArgs,
     #[command(flatten)]
@@ -48,6 +56,23 @@ pub enum RunEmit {
     Route,
     M2r,
     Ir,
+    NavPath,
+    Waypoints,
+    Geojson,
+    Mcap,
+}
+
+impl RunEmit {
+    fn robot(self) -> Option<crate::cmd::route_out::RobotEmit> {
+        use crate::cmd::route_out::RobotEmit;
+        match self {
+            RunEmit::NavPath => Some(RobotEmit::NavPath),
+            RunEmit::Waypoints => Some(RobotEmit::Waypoints),
+            RunEmit::Geojson => Some(RobotEmit::Geojson),
+            RunEmit::Mcap => Some(RobotEmit::Mcap),
+            _ => None,
+        }
+    }
 }
 
 pub fn run(args: RunArgs) -> Result<ExitCode> {
@@ -66,8 +91,26 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
              grounding2route --llm simulated`, or point `m2rc run` at a server with --llm-base-url"
         )));
     }
-    let map = m2rc_stdlib::load::load_map(&args.map)
-        .with_context(|| format!("cannot load map `{}`", args.map))?;
+    let doc = m2rc_stdlib::load::load_map_with(&args.map, &Default::default())
+        .with_context(|| format!("cannot load map `{}`", args.map))?
+        .0;
+    let frame = m2rc_stdlib::map::frame::MapFrame::of(&doc.map, Some(&doc.extra))
+        .map_err(|e| unusable(anyhow::Error::new(e)))?;
+    let map = doc.map;
+    let start = crate::cmd::route_out::start_from(args.start, args.start_cell, &frame, map.n())?;
+    if let Some(s) = start.filter(|s| s.row as usize >= map.n() || s.col as usize >= map.n()) {
+        return Err(unusable(anyhow::anyhow!(
+            "--start-cell {},{} is outside the map: the grid is {n}x{n} cells",
+            s.row,
+            s.col,
+            n = map.n()
+        )));
+    }
+    if args.emit.robot().is_some_and(|r| r.is_binary()) && args.output.is_none() {
+        return Err(unusable(anyhow::anyhow!(
+            "--emit mcap writes a binary recording: pass `-o route.mcap`"
+        )));
+    }
     let ctx =
         MapContext::new(&map).map_err(|e| anyhow::anyhow!("the map cannot be planned on: {e}"))?;
     let client = match args.llm.http_client() {
@@ -103,6 +146,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         &args.lower.repair_options(),
         &PipelineOptions {
             meter: Some(meter.clone()),
+            start,
             ..PipelineOptions::default()
         },
     );
@@ -172,6 +216,10 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     let program = trace.final_program.unwrap_or_default();
     let ir_json = compiled.ir.to_json();
     let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;
+    let robot = match args.emit.robot() {
+        Some(kind) => Some(crate::cmd::route_out::emit(kind, &map, &frame, &compiled)?),
+        None => None,
+    };
     let png = match &args.png {
         Some(_) => Some(
             render_map(&map, &render_options(&compiled))
@@ -184,6 +232,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         (Some(out), RunEmit::Route) => write_atomic(out, route_json.as_bytes())?,
         (Some(out), RunEmit::M2r) => write_atomic(out, program.as_bytes())?,
         (Some(out), RunEmit::Ir) => write_atomic(out, ir_json.as_bytes())?,
+        (Some(out), _) => write_atomic(out, robot.as_deref().unwrap_or(&[]))?,
         (None, _) => {}
     }
     if let (Some(path), Some(png)) = (&args.png, png) {
@@ -192,6 +241,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     match (args.emit, &args.output) {
         (RunEmit::M2r, None) => print!("{program}"),
         (RunEmit::Ir, None) => println!("{ir_json}"),
+        (_, None) if robot.is_some() => crate::io::stdout_bytes(robot.as_deref().unwrap_or(&[]))?,
         _ => {
             println!("// program");
             print!("{program}");

@@ -357,5 +357,5 @@ fn unusable_inputs_are_named_and_exit_non_zero() {
         dir.path(),
     );
     assert_eq!(run.code, Some(2), "a malformed flag is a usage error");
-    assert!(run.stderr.contains("row,col"), "{}", run.stderr);
+    assert!(run.stderr.contains("x,y"), "{}", run.stderr);
 }

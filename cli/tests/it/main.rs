@@ -16,6 +16,8 @@ mod faults_rundir;
 mod import_cli;
 mod lsp_stdio;
 mod ltl_cli;
+mod nav2_cli;
+mod robot_out;
 mod run_cli;
 mod table1_cli;
 mod usability_cli;

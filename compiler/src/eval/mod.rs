@@ -92,7 +92,7 @@ fn ground_with(
                 None => format!("map `{}` has no start position", q.map().map_id),
             },
         )
-        .help("give a start cell (`--start row,col`) on a free cell of the map");
+        .help("give a start cell (`--start-cell row,col` or `--start x,y` in metres) on a free cell of the map");
         return Grounded {
             ir: None,
             problems: vec![p],
@@ -157,7 +157,7 @@ fn start_moved(q: &MapQuery, asked: Option<Cell>, used: Cell) -> Option<Problem>
                 s.dist(used) * q.res()
             ),
         )
-        .help("give a start cell (`--start row,col`) on a free cell of the map")
+        .help("give a start cell (`--start-cell row,col` or `--start x,y` in metres) on a free cell of the map")
     })
 }
 

@@ -6,6 +6,7 @@ pub mod bounds;
 pub mod check;
 pub mod house;
 pub mod naming;
+pub mod nav2;
 mod placement;
 pub mod procthor;
 pub mod raster;

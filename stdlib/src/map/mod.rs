@@ -2,6 +2,7 @@
 
 pub mod error;
 pub mod format;
+pub mod frame;
 pub mod legend;
 pub mod model;
 mod open;
