@@ -30,6 +30,8 @@
 
 pub mod calls;
 pub mod common;
+pub mod ltlcodegen;
+pub mod osgllm;
 pub mod registry;
 
 pub use calls::{GOLD_LABEL, ModelSetup, Session};

@@ -17,7 +17,16 @@ pub struct Baseline {
 }
 
 /// Every baseline, in Table I's order.
-pub const BASELINES: &[Baseline] = &[];
+pub const BASELINES: &[Baseline] = &[
+    Baseline {
+        name: crate::osgllm::NAME,
+        make: crate::osgllm::method::make,
+    },
+    Baseline {
+        name: crate::ltlcodegen::NAME,
+        make: crate::ltlcodegen::method::make,
+    },
+];
 
 /// The names of [`BASELINES`].
 pub fn baseline_names() -> Vec<&'static str> {

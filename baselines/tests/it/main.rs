@@ -2,4 +2,6 @@
 //! through the batch round trip, and each method's pipeline.
 
 mod calls;
+mod ltlcodegen;
+mod osgllm;
 mod support;
