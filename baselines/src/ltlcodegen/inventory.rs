@@ -1,23 +1,21 @@
-//! LTLCodeGen's map abstraction: an inventory of AP names with their categories, with no
-//! coordinates and no room of each object (reference §7), and the label map that makes each AP
-//! true on grid cells (Lang2LTL's: a room on its traversable cells, an object on the traversable
-//! cells within 1 m of its centre).
+//! LTLCodeGen's map abstraction: the prompt's listing of AP names with their categories, with no
+//! coordinates and no room of each object (reference §7), over the crate's instance inventory;
+//! and the label map that makes each AP true on grid cells (the shared one, Lang2LTL's: a room
+//! on its traversable cells, an object on the traversable cells within 1 m of its centre).
 
-use crate::osgllm::graph::nearest_traversable;
-use m2rc_stdlib::grid::Cell;
+use crate::common::inventory::Inventory as Shared;
+use crate::common::labels;
 use m2rc_stdlib::map::SemanticMap;
 use serde_json::{Value, json};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Objects listed in the prompt.
 pub const MAX_PROMPT_OBJECTS: usize = 120;
-/// An object AP is true within this many cells of the object's centre (1 m).
-pub const OBJECT_LABEL_RADIUS: u32 = 20;
-/// How far the nearest traversable cell may be when none is within the radius: max(80, 4 r).
-pub const NEAREST_FREE_CELLS: u32 = 80;
 
 #[derive(Clone, Debug)]
 pub struct Inventory {
+    /// Every room and object of the map (the crate's instance inventory).
+    pub shared: Shared,
     /// `(ap, category)` of every room, by id.
     pub rooms: Vec<(String, String)>,
     /// `(ap, category)` of the listed objects, by id.
@@ -73,6 +71,7 @@ impl Inventory {
             .map(|(ap, _)| ap.clone())
             .collect();
         Inventory {
+            shared: Shared::from_map(map),
             rooms,
             objects,
             room_category_counts,
@@ -107,43 +106,14 @@ impl Inventory {
     }
 }
 
-/// The cells where an AP (`room_<id>` or `object_<id>`) is true, ascending row-major indices.
-pub fn label_cells(map: &SemanticMap, traversable: &[bool], ap: &str) -> Vec<u32> {
+/// The cells where an AP (`room_<id>` or `object_<id>`) is true, ascending row-major indices:
+/// the shared label map ([`labels::label_cells`]) at the 1 m object radius.
+pub fn label_cells(map: &SemanticMap, inv: &Inventory, ap: &str) -> Vec<u32> {
     let n = map.n();
-    if let Some(id) = ap.strip_prefix("room_").and_then(|x| x.parse::<u32>().ok()) {
-        return (0..n * n)
-            .filter(|&i| traversable[i] && map.room_layer.data().get(i) == Some(&id))
-            .map(|i| i as u32)
-            .collect();
-    }
-    let Some(o) = ap
-        .strip_prefix("object_")
-        .and_then(|x| x.parse::<u32>().ok())
-        .and_then(|id| map.object(id))
-    else {
-        return Vec::new();
-    };
-    if n == 0 {
-        return Vec::new();
-    }
-    let lim = (n - 1) as f64;
-    let (cr, cc) = (o.center[0].clamp(0.0, lim), o.center[1].clamp(0.0, lim));
-    let r = OBJECT_LABEL_RADIUS as f64;
-    let mut out = Vec::new();
-    for row in (cr - r).floor().max(0.0) as usize..=((cr + r).ceil().min(lim) as usize) {
-        for col in (cc - r).floor().max(0.0) as usize..=((cc + r).ceil().min(lim) as usize) {
-            let i = row * n + col;
-            if traversable[i] && (row as f64 - cr).hypot(col as f64 - cc) <= r {
-                out.push(i as u32);
-            }
-        }
-    }
-    if out.is_empty() {
-        let seed = Cell::new(cr.round() as u32, cc.round() as u32);
-        let radius = NEAREST_FREE_CELLS.max(4 * OBJECT_LABEL_RADIUS);
-        if let Some(c) = nearest_traversable(traversable, n, seed, radius) {
-            out.push((c.row as usize * n + c.col as usize) as u32);
-        }
-    }
-    out
+    inv.shared.get(ap).map_or_else(Vec::new, |a| {
+        labels::label_cells(map, a, labels::OBJECT_LABEL_RADIUS_CELLS)
+            .into_iter()
+            .map(|c| (c.row as usize * n + c.col as usize) as u32)
+            .collect()
+    })
 }

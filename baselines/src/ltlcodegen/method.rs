@@ -76,7 +76,7 @@ impl Method for LtlCodeGen {
             "model": self.setup.config(),
             "max_attempts": super::MAX_ATTEMPTS,
             "max_prompt_objects": super::inventory::MAX_PROMPT_OBJECTS,
-            "object_label_radius_cells": super::inventory::OBJECT_LABEL_RADIUS,
+            "object_label_radius_cells": crate::common::labels::OBJECT_LABEL_RADIUS_CELLS,
             "heuristic_cells": super::HEURISTIC_CELLS,
             "sandbox": {
                 "max_source_bytes": super::sandbox::MAX_SOURCE_BYTES,

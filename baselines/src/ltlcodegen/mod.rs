@@ -110,7 +110,7 @@ pub fn run_episode(
     let (formula, removed) = strip_initial_aps(e.formula);
     let mut regions: BTreeMap<String, Vec<u32>> = BTreeMap::new();
     for a in formula.atoms() {
-        regions.insert(a.to_string(), inventory::label_cells(map, traversable, a));
+        regions.insert(a.to_string(), inventory::label_cells(map, inv, a));
     }
     let region = |a: &str| regions.get(a).map(Vec::as_slice);
     let result = product::search(&ProductQuery {

@@ -230,14 +230,14 @@ fn a_failed_attempt_is_retried_with_its_code_and_error_and_the_third_plans_a_rou
 
 #[test]
 fn object_aps_label_the_free_cells_within_a_metre_of_the_centre() {
-    let (map, _, trav, _) = demo();
+    let (map, inv, trav, _) = demo();
     let n = map.n();
     let o = map
         .objects
         .iter()
         .find(|o| !o.footprint.is_empty())
         .unwrap();
-    let cells = inventory::label_cells(&map, &trav, &format!("object_{}", o.id));
+    let cells = inventory::label_cells(&map, &inv, &format!("object_{}", o.id));
     assert!(!cells.is_empty());
     for &i in &cells {
         let (r, c) = ((i as usize / n) as f64, (i as usize % n) as f64);
@@ -246,5 +246,5 @@ fn object_aps_label_the_free_cells_within_a_metre_of_the_centre() {
             assert!((r - o.center[0]).hypot(c - o.center[1]) <= 20.0);
         }
     }
-    assert!(inventory::label_cells(&map, &trav, "object_99999999").is_empty());
+    assert!(inventory::label_cells(&map, &inv, "object_99999999").is_empty());
 }

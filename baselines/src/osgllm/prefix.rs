@@ -1,23 +1,25 @@
 //! The prefix LTL of OSG-LLM's translation reply (`F & enter(room_3) F reach(object_12)`), read
-//! into m2rc's formula type.
+//! with the shared prefix reader (`common::prefix_ltl`) into m2rc's formula type.
 //!
 //! As in the adaptation, the allowed AP names are first replaced by aliases `p<i>` (their index
-//! in the allowed list), so the parentheses inside `enter(room_3)` never reach the tokenizer. The
-//! operators are the ones the prompt allows, `F G ! & | U ->`, plus `true` and `false`. Prefix
-//! notation needs no grouping, so parentheses and commas the model adds are read as spaces. Depth
-//! and length are bounded: a reply cannot exhaust the stack.
+//! in the allowed list), so the parentheses inside `enter(room_3)` never reach the tokenizer. Any
+//! other atom is an error (an AP the prompt did not allow, or a stray word), and so are the
+//! operators the prompt does not allow (`X`, `R`, `W`, `<->`): OSG-LLM's are `F G ! & | U ->`.
 
+use crate::common::prefix_ltl;
 use m2rc_compiler::ltl::Formula;
 use m2rc_compiler::ltl::syntax::Kind;
 
-/// Most tokens a formula may have.
-pub const MAX_TOKENS: usize = 4096;
-/// Deepest nesting a formula may have.
-pub const MAX_DEPTH: usize = 200;
+pub use prefix_ltl::MAX_DEPTH;
 
 /// The alias of the `i`-th allowed AP.
 pub fn alias(i: usize) -> String {
     format!("p{i}")
+}
+
+fn alias_index(atom: &str, n: usize) -> Option<usize> {
+    let i: usize = atom.strip_prefix('p')?.parse().ok()?;
+    (i < n && atom == alias(i)).then_some(i)
 }
 
 /// Reads `text` over `aps`; atoms of the result are the aliases of the APs used.
@@ -28,120 +30,37 @@ pub fn parse_prefix(text: &str, aps: &[String]) -> Result<Formula, String> {
     let mut s = text.to_string();
     for i in order {
         if !aps[i].is_empty() {
-            s = s.replace(&aps[i], &format!(" \u{1}{i} "));
+            s = s.replace(&aps[i], &format!(" {} ", alias(i)));
         }
     }
-    let tokens: Vec<String> = s
-        .split(|c: char| c.is_whitespace() || c == '(' || c == ')' || c == ',')
-        .filter(|t| !t.is_empty())
-        .map(|t| match t.strip_prefix('\u{1}') {
-            Some(i) => alias(i.parse().unwrap_or(usize::MAX)),
-            None => t.to_string(),
-        })
-        .collect();
-    if tokens.is_empty() {
-        return Err("the formula is empty".into());
-    }
-    if tokens.len() > MAX_TOKENS {
-        return Err(format!(
-            "the formula has {} tokens, more than {MAX_TOKENS}",
-            tokens.len()
-        ));
-    }
-    let mut pos = 0;
-    let f = term(&tokens, &mut pos, 0, aps.len())?;
-    if pos != tokens.len() {
-        return Err(format!(
-            "unexpected `{}` after a complete formula (prefix notation: an operator, then its operands)",
-            tokens[pos]
-        ));
-    }
-    Ok(f)
-}
-
-fn term(t: &[String], pos: &mut usize, depth: usize, n_aps: usize) -> Result<Formula, String> {
-    if depth > MAX_DEPTH {
-        return Err(format!("the formula nests deeper than {MAX_DEPTH}"));
-    }
-    let Some(tok) = t.get(*pos) else {
-        return Err("the formula ends where an operand is missing".into());
-    };
-    *pos += 1;
-    let mut sub = || term(t, pos, depth + 1, n_aps).map(Box::new);
-    let kind = match tok.as_str() {
-        "F" => Kind::Eventually(sub()?),
-        "G" => Kind::Always(sub()?),
-        "!" => Kind::Not(sub()?),
-        "&" => {
-            let a = sub()?;
-            Kind::And(a, sub()?)
+    let f = prefix_ltl::parse_prefix(&s)?;
+    let mut bad: Option<String> = None;
+    f.walk(&mut |g| {
+        if bad.is_some() {
+            return;
         }
-        "|" => {
-            let a = sub()?;
-            Kind::Or(a, sub()?)
-        }
-        "U" => {
-            let a = sub()?;
-            Kind::Until(a, sub()?)
-        }
-        "->" => {
-            let a = sub()?;
-            Kind::Implies(a, sub()?)
-        }
-        "true" => Kind::True,
-        "false" => Kind::False,
-        other => match other
-            .strip_prefix('p')
-            .and_then(|i| i.parse::<usize>().ok())
-        {
-            Some(i) if i < n_aps && other == alias(i) => Kind::Atom(other.to_string()),
-            _ => {
-                return Err(format!(
-                    "`{other}` is neither an allowed atomic proposition nor one of the operators F G ! & | U ->"
+        match &g.kind {
+            Kind::Atom(a) if alias_index(a, aps.len()).is_none() => {
+                bad = Some(format!(
+                    "`{a}` is neither an allowed atomic proposition nor one of the operators F G ! & | U ->"
                 ));
             }
-        },
-    };
-    Ok(Formula::new(kind))
+            Kind::Next(_) | Kind::WeakNext(_) | Kind::Release(..) | Kind::WeakUntil(..) | Kind::Iff(..) => {
+                bad = Some("only the operators F G ! & | U -> are allowed".into());
+            }
+            _ => {}
+        }
+    });
+    match bad {
+        Some(e) => Err(e),
+        None => Ok(f),
+    }
 }
 
 /// The formula in prefix text, with aliases written back as AP names (for records).
 pub fn to_prefix(f: &Formula, aps: &[String]) -> String {
-    let mut out = Vec::new();
-    write(f, aps, &mut out);
-    out.join(" ")
-}
-
-fn write(f: &Formula, aps: &[String], out: &mut Vec<String>) {
-    let op = |s: &str, parts: &[&Formula], out: &mut Vec<String>| {
-        out.push(s.to_string());
-        for p in parts {
-            write(p, aps, out);
-        }
-    };
-    match &f.kind {
-        Kind::True => out.push("true".into()),
-        Kind::False => out.push("false".into()),
-        Kind::Atom(a) => out.push(
-            a.strip_prefix('p')
-                .and_then(|i| i.parse::<usize>().ok())
-                .and_then(|i| aps.get(i))
-                .cloned()
-                .unwrap_or_else(|| a.clone()),
-        ),
-        Kind::Not(a) => op("!", &[a], out),
-        Kind::Eventually(a) => op("F", &[a], out),
-        Kind::Always(a) => op("G", &[a], out),
-        Kind::Next(a) => op("X", &[a], out),
-        Kind::WeakNext(a) => op("WX", &[a], out),
-        Kind::And(a, b) => op("&", &[a, b], out),
-        Kind::Or(a, b) => op("|", &[a, b], out),
-        Kind::Until(a, b) => op("U", &[a, b], out),
-        Kind::Implies(a, b) => op("->", &[a, b], out),
-        Kind::Iff(a, b) => op("<->", &[a, b], out),
-        Kind::Release(a, b) => op("R", &[a, b], out),
-        Kind::WeakUntil(a, b) => op("W", &[a, b], out),
-    }
+    let named = prefix_ltl::rename_atoms(f, &|a| alias_index(a, aps.len()).map(|i| aps[i].clone()));
+    prefix_ltl::to_prefix(&named)
 }
 
 #[cfg(test)]
@@ -173,8 +92,8 @@ mod tests {
     #[test]
     fn malformed_and_foreign_formulas_are_refused_with_the_reason() {
         let e = parse_prefix("F & enter(room_3)", &aps()).unwrap_err();
-        assert!(e.contains("operand is missing"), "{e}");
-        let e = parse_prefix("F reach(object_99)", &aps()).unwrap_err();
+        assert!(e.contains("ends early"), "{e}");
+        let e = parse_prefix("F kitchen", &aps()).unwrap_err();
         assert!(e.contains("neither an allowed"), "{e}");
         let e = parse_prefix("F enter(room_3) F reach(object_1)", &aps()).unwrap_err();
         assert!(e.contains("after a complete formula"), "{e}");

@@ -243,7 +243,7 @@ fn malformed_refused_and_unknown_replies_end_the_episode_at_the_start_with_the_c
                 Ok(r#"{"ltl_prefix": "F &"}"#.into()),
             ],
             "ltl",
-            "operand is missing",
+            "ends early",
         ),
         (
             vec![

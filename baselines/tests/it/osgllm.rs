@@ -196,7 +196,7 @@ fn a_mock_servers_replies_are_called_in_order_and_bad_ones_fail_the_episode() {
             good_grounding.clone(),
             r#"{"ltl_prefix": "& F"}"#.to_string(),
             "ltl",
-            "operand is missing",
+            "ends early",
         ),
         (
             good_grounding.clone(),
