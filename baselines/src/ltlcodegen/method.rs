@@ -108,7 +108,11 @@ impl Method for LtlCodeGen {
         // The gold program is the same for every attempt (the first one runs).
         let gold = session.is_gold().then(|| {
             Gold::of(&map.map, episode).map(|g| {
-                let (code, n) = gold_code(&map.map, &view.inventory, &from_common(&g));
+                let (code, n) = gold_code(
+                    &map.map,
+                    &view.inventory,
+                    &from_common(&g, &map.map, episode),
+                );
                 notes.extend(n);
                 CALLS
                     .iter()

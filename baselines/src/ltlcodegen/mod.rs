@@ -143,7 +143,7 @@ pub fn run_episode(
 }
 
 fn end(start: Cell, status: &str, attempts: Vec<Value>, info: Value) -> Outcome {
-    let mut rec = json!({"status": status.to_uppercase(), "attempts": attempts});
+    let mut rec = json!({"attempts": attempts});
     if let Value::Object(m) = info {
         for (k, v) in m {
             rec[k] = v;

@@ -2,9 +2,10 @@
 //! from the episode's gold annotations (`common::gold`).
 //!
 //! * grounding: the goal entities are the annotated destinations in must-pass order; the avoid
-//!   entities are the avoided places. OSG-LLM's graph names rooms and objects only, so a region
-//!   (a doorway, a corner, the area between two things) is given as the room that holds most of
-//!   its cells, the nearest thing the graph can say.
+//!   entities are the avoided places. OSG-LLM's graph names rooms and objects only, so a
+//!   destination region (a doorway, a corner) is given as the room that holds most of its cells,
+//!   and an avoided region as the object it surrounds, when it surrounds one (and is left out,
+//!   with a note, when it does not: the area between two things).
 //! * translation: the goals as a chain of eventualities, a global avoid as `G ! a`, and an avoid
 //!   that holds only on some legs as an until over those legs (`U & ! g & ! a & g & ! a rest`),
 //!   which the allowed operators can say exactly.
@@ -14,9 +15,13 @@
 use super::graph::SceneGraph;
 use super::prefix::{alias, to_prefix};
 use crate::common::gold::{Gold, GoldPlace};
+use m2rc_benchmark::episode::{ConstraintKind, Episode, HardConstraint};
 use m2rc_compiler::ltl::Formula;
 use m2rc_compiler::ltl::syntax::Kind;
+use m2rc_stdlib::grid::Cell;
+use m2rc_stdlib::map::SemanticMap;
 use serde_json::json;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// The gold visits and avoids as node ids.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -32,7 +37,11 @@ pub struct GoldGrounding {
 /// The shared gold annotations ([`Gold`]) as node ids: each destination is its object, else its
 /// room (a region is given as the room most of its cells are in: the graph has no node for it);
 /// a scoped avoid holds for the destinations whose must-pass order lies in its scope.
-pub fn from_common(gold: &Gold) -> GoldGrounding {
+///
+/// An avoided region is said as what the graph can say of it ([`avoid_nodes`]): never as the
+/// whole room it lies in, which would forbid far more than the instruction does (and often the
+/// start or a destination).
+pub fn from_common(gold: &Gold, map: &SemanticMap, episode: &Episode) -> GoldGrounding {
     let mut out = GoldGrounding::default();
     let id = |p: &GoldPlace| match (p.object_id, p.room_id) {
         (Some(o), _) => Some(format!("object_{o}")),
@@ -51,12 +60,19 @@ pub fn from_common(gold: &Gold) -> GoldGrounding {
             )),
         }
     }
-    for a in &gold.avoids {
-        let Some(x) = id(a) else {
-            out.notes
-                .push(format!("avoid `{}` left out: in no room", name(a)));
-            continue;
-        };
+    // `Gold::of` lists the must-avoid constraints in file order, as here.
+    let avoided = episode
+        .hard_constraints
+        .iter()
+        .filter(|h| h.kind == ConstraintKind::MustAvoid);
+    for (a, h) in gold.avoids.iter().zip(avoided) {
+        let ids = avoid_nodes(map, h);
+        if ids.is_empty() {
+            out.notes.push(format!(
+                "avoid `{}` left out: the scene graph has no room or object for it",
+                name(a)
+            ));
+        }
         let legs = a.scope.map(|(from, to)| {
             out.goals
                 .iter()
@@ -64,11 +80,52 @@ pub fn from_common(gold: &Gold) -> GoldGrounding {
                 .filter(|&o| (o as i64) > from && (o as i64) <= to)
                 .collect::<Vec<usize>>()
         });
-        if !out.avoids.iter().any(|(y, l)| *y == x && *l == legs) {
-            out.avoids.push((x, legs));
+        for x in ids {
+            if !out.avoids.iter().any(|(y, l)| *y == x && *l == legs) {
+                out.avoids.push((x, legs.clone()));
+            }
         }
     }
     out
+}
+
+/// The nodes an avoided region is: its object; else its room when it covers at least half of
+/// the room; else the objects at least half of whose footprint lies in it (the object of "keep
+/// out of the area around the plant"); else none (the area between two things).
+pub fn avoid_nodes(map: &SemanticMap, h: &HardConstraint) -> Vec<String> {
+    if let Some(o) = h
+        .object_id
+        .and_then(|i| u32::try_from(i).ok())
+        .and_then(|i| map.object(i))
+    {
+        return vec![format!("object_{}", o.id)];
+    }
+    let n = map.n() as i64;
+    let cells: BTreeSet<Cell> = h
+        .cells
+        .iter()
+        .flatten()
+        .filter(|c| (0..n).contains(&c[0]) && (0..n).contains(&c[1]))
+        .map(|c| Cell::new(c[0] as u32, c[1] as u32))
+        .collect();
+    let mut per_room: BTreeMap<u32, usize> = BTreeMap::new();
+    for c in &cells {
+        *per_room.entry(map.room_at(*c)).or_default() += 1;
+    }
+    for (&room, &k) in &per_room {
+        let size = map.room_cells(room).len();
+        if room != 0 && size > 0 && 2 * k >= size {
+            return vec![format!("room_{room}")];
+        }
+    }
+    map.objects
+        .iter()
+        .filter(|o| {
+            !o.footprint.is_empty()
+                && 2 * o.footprint.iter().filter(|c| cells.contains(c)).count() >= o.footprint.len()
+        })
+        .map(|o| format!("object_{}", o.id))
+        .collect()
 }
 
 /// The three gold replies (grounding, translation, heuristic), as reply texts.

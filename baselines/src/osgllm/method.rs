@@ -123,7 +123,7 @@ impl Method for OsgLlm {
         let mut notes = Vec::new();
         let gold = session.is_gold().then(|| {
             Gold::of(&map.map, episode).map(|g| {
-                let gg = from_common(&g);
+                let gg = from_common(&g, &map.map, episode);
                 notes.extend(gg.notes.iter().cloned());
                 CALLS
                     .iter()

@@ -72,7 +72,6 @@ pub fn run_episode(
     rec.insert("scene_graph_summary".into(), graph.summary());
     let failed = |rec: serde_json::Map<String, Value>, status: &str, call: &str, why: String| {
         let mut rec = rec;
-        rec.insert("status".into(), json!(status.to_uppercase()));
         rec.insert("failed_call".into(), json!(call));
         rec.insert("error".into(), json!(why));
         Outcome {
@@ -153,14 +152,6 @@ pub fn run_episode(
         graph, &formula, &allowed, &goals, &avoids, &preferred, start, start_room, limit,
     );
     rec.insert("planner".into(), planned.record);
-    rec.insert(
-        "status".into(),
-        json!(if planned.trajectory.is_some() {
-            "SUCCESS"
-        } else {
-            "PLANNING_FAILED"
-        }),
-    );
     rec.insert("method_level_deviations".into(), json!(DEVIATIONS));
     match planned.trajectory {
         Some(t) => Outcome {

@@ -258,3 +258,38 @@ fn three_calls_are_three_batch_rounds() {
     let p = OsgLlm::new(setup).predict(&map, &ep).unwrap();
     assert_eq!(p.status, None, "{}", block(&p, "osgllm"));
 }
+
+#[test]
+fn an_avoided_region_is_said_as_its_room_its_object_or_not_at_all() {
+    use m2rc_baselines::osgllm::gold::avoid_nodes;
+    let map = demo();
+    let m = &map.map;
+    let cells = |v: &[Cell]| {
+        v.iter()
+            .map(|c| [c.row as i64, c.col as i64])
+            .collect::<Vec<_>>()
+    };
+    let avoid = |c: Vec<[i64; 2]>| constraint("a", ConstraintKind::MustAvoid, c, None, None);
+    assert_eq!(avoid_nodes(m, &avoid(cells(&m.room_cells(4)))), ["room_4"]);
+    // The area around the fridge: its footprint and a ring of cells.
+    let fridge = m.object(object(m, "fridge")).unwrap();
+    let mut around: Vec<Cell> = Vec::new();
+    for c in &fridge.footprint {
+        for (dr, dc) in [(0i64, 0i64), (-2, 0), (2, 0), (0, -2), (0, 2)] {
+            let (r, k) = (c.row as i64 + dr, c.col as i64 + dc);
+            if r >= 0 && k >= 0 {
+                around.push(Cell::new(r as u32, k as u32));
+            }
+        }
+    }
+    let said = avoid_nodes(m, &avoid(cells(&around)));
+    assert!(said.contains(&format!("object_{}", fridge.id)), "{said:?}");
+    // A few free cells of the living room with no object in them: nothing the graph can say.
+    let free: Vec<Cell> = m
+        .room_cells(1)
+        .into_iter()
+        .filter(|c| m.is_free(*c))
+        .take(3)
+        .collect();
+    assert_eq!(avoid_nodes(m, &avoid(cells(&free))), Vec::<String>::new());
+}
