@@ -16,6 +16,7 @@
 
 use super::graph::SceneGraph;
 use m2rc_compiler::ltl::{Dfa, Formula};
+use m2rc_stdlib::field::{LazySquaredDistances, NO_SOURCE};
 use m2rc_stdlib::grid::Cell;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -256,10 +257,6 @@ pub fn search(q: &ProductQuery) -> Result<ProductRoute, ProductError> {
             Guess::EuclidSamples(k) => samples(c, n, k, false),
         })
         .collect();
-    let dist_fn: fn((i64, i64), (i64, i64)) -> f64 = match q.guess {
-        Guess::OctileSamples => octile,
-        Guess::EuclidSamples(_) => |a, b| ((a.0 - b.0) as f64).hypot((a.1 - b.1) as f64),
-    };
     let pending: Vec<Vec<usize>> = (0..nq)
         .map(|s| {
             let mut bits = 0u64;
@@ -273,16 +270,39 @@ pub fn search(q: &ProductQuery) -> Result<ProductRoute, ProductError> {
             (0..atoms.len()).filter(|k| bits >> k & 1 == 1).collect()
         })
         .collect();
-    let heur = |s: usize, cell: usize| -> f64 {
-        if dfa.accepting[s] {
+    // The Euclidean guess is the exact distance to the nearest sampled cell, read from one lazy
+    // distance transform per automaton state (2 000 samples per region are too many to scan at
+    // every push); the octile guess scans its 65 samples per region.
+    let mut fields: Vec<Option<LazySquaredDistances>> = (0..nq).map(|_| None).collect();
+    let mut heur = |s: usize, cell: usize| -> f64 {
+        if dfa.accepting[s] || pending[s].is_empty() {
             return 0.0;
         }
-        let here = ((cell / n) as i64, (cell % n) as i64);
-        pending[s]
-            .iter()
-            .flat_map(|&k| atom_samples[k].iter().map(move |&p| dist_fn(here, p)))
-            .min_by(f64::total_cmp)
-            .unwrap_or(0.0)
+        match q.guess {
+            Guess::OctileSamples => {
+                let here = ((cell / n) as i64, (cell % n) as i64);
+                pending[s]
+                    .iter()
+                    .flat_map(|&k| atom_samples[k].iter().map(move |&p| octile(here, p)))
+                    .min_by(f64::total_cmp)
+                    .unwrap_or(0.0)
+            }
+            Guess::EuclidSamples(_) => {
+                let field = fields[s].get_or_insert_with(|| {
+                    let mut mask = vec![false; n * n];
+                    for &k in &pending[s] {
+                        for &(r, c) in &atom_samples[k] {
+                            mask[r as usize * n + c as usize] = true;
+                        }
+                    }
+                    LazySquaredDistances::new(&mask, n)
+                });
+                match field.get(cell) {
+                    NO_SOURCE => 0.0,
+                    v => (v as f64).sqrt(),
+                }
+            }
+        }
     };
     let total = n * n * nq;
     let mut dist = vec![f64::INFINITY; total];
