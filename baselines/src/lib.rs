@@ -30,6 +30,9 @@
 
 pub mod calls;
 pub mod common;
+pub mod lang2ltl;
+pub mod lang2ltl2;
+pub mod limp;
 pub mod ltlcodegen;
 pub mod osgllm;
 pub mod registry;

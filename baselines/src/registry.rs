@@ -16,16 +16,19 @@ pub struct Baseline {
     pub make: fn(Arc<ModelSetup>) -> Box<dyn Method>,
 }
 
+impl Baseline {
+    pub const fn new(name: &'static str, make: fn(Arc<ModelSetup>) -> Box<dyn Method>) -> Self {
+        Baseline { name, make }
+    }
+}
+
 /// Every baseline, in Table I's order.
 pub const BASELINES: &[Baseline] = &[
-    Baseline {
-        name: crate::osgllm::NAME,
-        make: crate::osgllm::method::make,
-    },
-    Baseline {
-        name: crate::ltlcodegen::NAME,
-        make: crate::ltlcodegen::method::make,
-    },
+    Baseline::new(crate::lang2ltl::NAME, crate::lang2ltl::make),
+    Baseline::new(crate::osgllm::NAME, crate::osgllm::method::make),
+    Baseline::new(crate::lang2ltl2::NAME, crate::lang2ltl2::make),
+    Baseline::new(crate::limp::NAME, crate::limp::make),
+    Baseline::new(crate::ltlcodegen::NAME, crate::ltlcodegen::method::make),
 ];
 
 /// The names of [`BASELINES`].

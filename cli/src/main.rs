@@ -52,6 +52,9 @@ enum Command {
     Ablate(cmd::ablate::AblateArgs),
     /// Turn an LTLf formula into its minimal automaton (JSON, HOA, DOT).
     Ltl(cmd::ltl::LtlArgs),
+    /// Inspect the Table I baselines (`explain`: every step of one instruction).
+    #[command(subcommand)]
+    Baseline(cmd::baseline::BaselineCommand),
 }
 
 fn main() -> ExitCode {
@@ -70,6 +73,7 @@ fn main() -> ExitCode {
         Command::Prompt(a) => cmd::prompt::run(a),
         Command::Ablate(a) => cmd::ablate::run(a),
         Command::Ltl(a) => cmd::ltl::run(a),
+        Command::Baseline(c) => cmd::baseline::run(c),
     };
     match result {
         Ok(code) => code,

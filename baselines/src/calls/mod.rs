@@ -94,6 +94,8 @@ pub struct Session<'a> {
     setup: &'a ModelSetup,
     /// `<map>/<instruction>/<method>`: the prefix of every call's `custom_id`.
     prefix: String,
+    /// `<map>/<method>`: the prefix of calls that are the same for every episode of a map.
+    map_prefix: String,
     temperature: f64,
     /// Every call made, in order, as recorded in the prediction record.
     pub calls: Vec<Value>,
@@ -103,21 +105,23 @@ pub struct Session<'a> {
 
 impl<'a> Session<'a> {
     pub fn new(setup: &'a ModelSetup, method: &str, map_id: &str, episode: &Episode) -> Self {
+        let map = episode.map_id.as_deref().unwrap_or(map_id);
         let key = format!(
-            "{}/{}/{method}",
-            episode.map_id.as_deref().unwrap_or(map_id),
+            "{map}/{}/{method}",
             episode
                 .instruction_id()
                 .unwrap_or_else(|| "instruction".into())
         );
-        Session::with_key(setup, key)
+        Session::with_key(setup, key, format!("{map}/{method}"))
     }
 
-    /// A session whose calls are named `<key>/<step>` (`m2rc baseline explain` has no episode).
-    pub fn with_key(setup: &'a ModelSetup, key: String) -> Self {
+    /// A session whose calls are named `<key>/<step>`, and map-level calls `<map_key>/<step>`
+    /// (`m2rc baseline explain` has no episode).
+    pub fn with_key(setup: &'a ModelSetup, key: String, map_key: String) -> Self {
         Session {
             setup,
             prefix: key,
+            map_prefix: map_key,
             temperature: setup.temperature,
             calls: Vec::new(),
             dims: None,
@@ -210,6 +214,26 @@ impl<'a> Session<'a> {
     /// episode, or the failure `embedding_failed`.
     pub fn embed(&mut self, step: &str, texts: &[String]) -> Result<Vec<Vec<f32>>, Failure> {
         let custom_id = format!("{}/{step}", self.prefix);
+        self.embed_as(step, custom_id, texts)
+    }
+
+    /// [`Session::embed`] for a request that is the same for every episode of the map (the
+    /// landmarks' descriptions): one name, so a batch file holds it once.
+    pub fn embed_map_level(
+        &mut self,
+        step: &str,
+        texts: &[String],
+    ) -> Result<Vec<Vec<f32>>, Failure> {
+        let custom_id = format!("{}/{step}", self.map_prefix);
+        self.embed_as(step, custom_id, texts)
+    }
+
+    fn embed_as(
+        &mut self,
+        step: &str,
+        custom_id: String,
+        texts: &[String],
+    ) -> Result<Vec<Vec<f32>>, Failure> {
         if texts.is_empty() {
             return Ok(vec![]);
         }

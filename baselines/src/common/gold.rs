@@ -116,3 +116,53 @@ fn majority_room(map: &SemanticMap, h: &HardConstraint) -> Option<u32> {
         .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
         .map(|(r, _)| r)
 }
+
+impl Gold {
+    /// The hard constraints as one LTLf formula over the names `dest(i)` and `avoid(j)` give the
+    /// places: the destinations in order (`F (d1 & F (d2 & ...))`), each leg under its scoped
+    /// avoids (`(!c U (d & ...))` instead of `F`), and `G !c` for every global avoid. The
+    /// LTL-family oracles write this in their own formats.
+    pub fn sequence_formula(
+        &self,
+        dest: &dyn Fn(usize) -> String,
+        avoid: &dyn Fn(usize) -> String,
+    ) -> m2rc_compiler::ltl::Formula {
+        use crate::common::progress::not;
+        let and = |a: Formula, b: Formula| Formula::new(Kind::And(Box::new(a), Box::new(b)));
+        use m2rc_compiler::ltl::Formula;
+        use m2rc_compiler::ltl::syntax::Kind;
+        let atom = |s: String| Formula::new(Kind::Atom(s));
+        let mut rest: Option<Formula> = None;
+        for (i, d) in self.destinations.iter().enumerate().rev() {
+            let reach = match rest.take() {
+                Some(r) => and(atom(dest(i)), r),
+                None => atom(dest(i)),
+            };
+            let order = d.order.unwrap_or(i as i64 + 2);
+            let active: Vec<Formula> = self
+                .avoids
+                .iter()
+                .enumerate()
+                .filter(|(_, a)| {
+                    a.scope
+                        .is_some_and(|(from, to)| from < order && order <= to)
+                })
+                .map(|(j, _)| not(atom(avoid(j))))
+                .collect();
+            rest = Some(if active.is_empty() {
+                Formula::new(Kind::Eventually(Box::new(reach)))
+            } else {
+                let guard = active.into_iter().reduce(and).expect("non-empty");
+                Formula::new(Kind::Until(Box::new(guard), Box::new(reach)))
+            });
+        }
+        let mut out = rest.unwrap_or_else(|| Formula::new(Kind::True));
+        for (j, a) in self.avoids.iter().enumerate() {
+            if a.scope.is_none() {
+                let g = Formula::new(Kind::Always(Box::new(not(atom(avoid(j))))));
+                out = Formula::new(Kind::And(Box::new(out), Box::new(g)));
+            }
+        }
+        out
+    }
+}

@@ -38,6 +38,8 @@ pub struct GridSearch<'m> {
     astar: AStar,
     /// Expansions used by every search so far.
     pub expansions: u64,
+    /// The last distance field computed, and its source.
+    field: Option<(Cell, Vec<f64>)>,
 }
 
 impl<'m> GridSearch<'m> {
@@ -53,6 +55,7 @@ impl<'m> GridSearch<'m> {
             traversable: layout.pad(&plain, false),
             astar: AStar::new(),
             expansions: 0,
+            field: None,
         }
     }
 
@@ -134,6 +137,73 @@ impl<'m> GridSearch<'m> {
                 Err(SearchFail::OverBudget)
             }
         }
+    }
+
+    /// Path length from `start` to every cell (row-major; infinite where unreachable), with the
+    /// same moves as [`GridSearch::path_to_any`] and no mask: one Dijkstra that answers "how far
+    /// is each candidate" for every candidate at once. Kept for the next call from the same start.
+    pub fn distances_from(&mut self, start: Cell) -> &[f64] {
+        if self.field.as_ref().is_none_or(|(s, _)| *s != start) {
+            let field = self.dijkstra(start);
+            self.field = Some((start, field));
+        }
+        &self.field.as_ref().expect("just set").1
+    }
+
+    fn dijkstra(&self, start: Cell) -> Vec<f64> {
+        use std::cmp::Reverse;
+        let n = self.layout.n;
+        let mut dist = vec![f64::INFINITY; n * n];
+        if !self.is_free(start) {
+            return dist;
+        }
+        let idx = |c: Cell| c.row as usize * n + c.col as usize;
+        let mut heap = std::collections::BinaryHeap::new();
+        dist[idx(start)] = 0.0;
+        heap.push(Reverse((0u64, start.row, start.col)));
+        while let Some(Reverse((d, r, c))) = heap.pop() {
+            let d = f64::from_bits(d);
+            let cell = Cell::new(r, c);
+            if d > dist[idx(cell)] {
+                continue;
+            }
+            for (dr, dc) in [
+                (-1i64, 0i64),
+                (1, 0),
+                (0, -1),
+                (0, 1),
+                (-1, -1),
+                (-1, 1),
+                (1, -1),
+                (1, 1),
+            ] {
+                let (rr, cc) = (r as i64 + dr, c as i64 + dc);
+                if rr < 0 || cc < 0 || rr >= n as i64 || cc >= n as i64 {
+                    continue;
+                }
+                let next = Cell::new(rr as u32, cc as u32);
+                if !self.is_free(next) {
+                    continue;
+                }
+                let step = if dr != 0 && dc != 0 {
+                    if !self.is_free(Cell::new(rr as u32, c))
+                        || !self.is_free(Cell::new(r, cc as u32))
+                    {
+                        continue;
+                    }
+                    std::f64::consts::SQRT_2
+                } else {
+                    1.0
+                };
+                let nd = d + step;
+                if nd < dist[idx(next)] {
+                    dist[idx(next)] = nd;
+                    // Non-negative floats order as their bit patterns.
+                    heap.push(Reverse((nd.to_bits(), next.row, next.col)));
+                }
+            }
+        }
+        dist
     }
 
     /// Cells reachable from `start` (row-major mask), avoiding `blocked`.

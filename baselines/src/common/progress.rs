@@ -22,23 +22,61 @@ pub fn ff() -> Formula {
 }
 
 pub fn and(a: Formula, b: Formula) -> Formula {
-    match (&a.kind, &b.kind) {
-        (Kind::False, _) | (_, Kind::False) => ff(),
-        (Kind::True, _) => b,
-        (_, Kind::True) => a,
-        _ if a == b => a,
-        _ => f(Kind::And(Box::new(a), Box::new(b))),
-    }
+    junction(a, b, true)
 }
 
 pub fn or(a: Formula, b: Formula) -> Formula {
-    match (&a.kind, &b.kind) {
-        (Kind::True, _) | (_, Kind::True) => tt(),
-        (Kind::False, _) => b,
-        (_, Kind::False) => a,
-        _ if a == b => a,
-        _ => f(Kind::Or(Box::new(a), Box::new(b))),
+    junction(a, b, false)
+}
+
+/// `a & b` (`conj`) or `a | b`, normalised: nested operands of the same junction flattened,
+/// duplicates dropped, `true`/`false` absorbed, operands in a canonical order. So a residual that
+/// means the same after two progressions is the same formula, and the set of residuals a search
+/// meets stays finite.
+fn junction(a: Formula, b: Formula, conj: bool) -> Formula {
+    let mut parts: Vec<Formula> = Vec::new();
+    fn collect(x: Formula, conj: bool, out: &mut Vec<Formula>) {
+        match x.kind {
+            Kind::And(l, r) if conj => {
+                collect(*l, conj, out);
+                collect(*r, conj, out);
+            }
+            Kind::Or(l, r) if !conj => {
+                collect(*l, conj, out);
+                collect(*r, conj, out);
+            }
+            k => out.push(Formula::new(k)),
+        }
     }
+    collect(a, conj, &mut parts);
+    collect(b, conj, &mut parts);
+    let (unit, zero) = if conj {
+        (Kind::True, Kind::False)
+    } else {
+        (Kind::False, Kind::True)
+    };
+    if parts.iter().any(|p| p.kind == zero) {
+        return f(zero);
+    }
+    let mut keyed: Vec<(String, Formula)> = parts
+        .into_iter()
+        .filter(|p| p.kind != unit)
+        .map(|p| (crate::common::prefix_ltl::to_prefix(&p), p))
+        .collect();
+    keyed.sort_by(|x, y| x.0.cmp(&y.0));
+    keyed.dedup_by(|x, y| x.0 == y.0);
+    let mut it = keyed.into_iter().rev().map(|(_, p)| p);
+    let Some(mut acc) = it.next() else {
+        return f(unit);
+    };
+    for p in it {
+        acc = f(if conj {
+            Kind::And(Box::new(p), Box::new(acc))
+        } else {
+            Kind::Or(Box::new(p), Box::new(acc))
+        });
+    }
+    acc
 }
 
 pub fn not(a: Formula) -> Formula {
@@ -77,6 +115,12 @@ pub fn progress(phi: &Formula, holds: &dyn Fn(&str) -> bool) -> Formula {
         Kind::Until(a, b) | Kind::WeakUntil(a, b) => or(p(b), and(p(a), phi.clone())),
         Kind::Release(a, b) => and(p(b), or(p(a), phi.clone())),
     }
+}
+
+/// Whether two formulas are the same, spans aside (a parsed formula carries its text's spans,
+/// a progressed one none).
+pub fn same(a: &Formula, b: &Formula) -> bool {
+    crate::common::prefix_ltl::to_prefix(a) == crate::common::prefix_ltl::to_prefix(b)
 }
 
 /// Nodes in `phi` (a residual's size, checked against a method's budget).
@@ -167,7 +211,10 @@ mod tests {
     #[test]
     fn progression_rules() {
         assert_eq!(step("F & a F b", &[]), "F & a F b");
-        assert_eq!(step("F & a F b", &["a"]), "| F b F & a F b");
+        assert_eq!(step("F & a F b", &["a"]), "| F & a F b F b");
+        // Progressing again by the same label changes nothing: the residual is normalised.
+        let once = progress(&parse_prefix("F & a F b").unwrap(), &|x| x == "a");
+        assert_eq!(progress(&once, &|x| x == "a"), once);
         assert_eq!(step("F & a F b", &["a", "b"]), "true");
         assert_eq!(step("& F a G ! b", &["b"]), "false");
         assert_eq!(step("& F a G ! b", &["a"]), "G ! b");

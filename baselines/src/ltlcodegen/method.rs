@@ -140,6 +140,14 @@ impl Method for LtlCodeGen {
             _ => serde_json::Map::new(),
         };
         block.insert("calls".into(), Value::Array(session.calls));
+        block.insert("model".into(), json!(self.setup.label()));
+        block.insert("gold_replies".into(), json!(self.setup.is_gold()));
+        if self.setup.is_gold() {
+            notes.insert(
+                0,
+                format!("{}: the question() program from the gold annotations; the sandbox and the planner run as the method does", crate::calls::GOLD_LABEL),
+            );
+        }
         let route = if out.status == "ok" {
             Ok(out.trajectory)
         } else {
@@ -152,6 +160,6 @@ impl Method for LtlCodeGen {
             let message = last.map_or_else(|| out.status.replace('_', " "), |f| f.to_string());
             Err(Failure::new(&status, message))
         };
-        Ok(prediction("ltlcodegen", route, block, notes))
+        Ok(prediction(NAME, route, block, notes))
     }
 }

@@ -118,7 +118,7 @@ impl Method for OsgLlm {
                 "start_blocked",
                 format!("no traversable cell within {START_SNAP_CELLS} cells of the start pose"),
             );
-            return Ok(prediction("osgllm", Err(f), block, vec![]));
+            return Ok(prediction(NAME, Err(f), block, vec![]));
         };
         let mut notes = Vec::new();
         let gold = session.is_gold().then(|| {
@@ -144,6 +144,14 @@ impl Method for OsgLlm {
             block = m;
         }
         block.insert("calls".into(), Value::Array(session.calls));
+        block.insert("model".into(), json!(self.setup.label()));
+        block.insert("gold_replies".into(), json!(self.setup.is_gold()));
+        if self.setup.is_gold() {
+            notes.insert(
+                0,
+                format!("{}: grounding, translation and heuristic replies from the gold annotations; the planners run as the method does", crate::calls::GOLD_LABEL),
+            );
+        }
         let route = if out.status == "ok" {
             Ok(out.trajectory)
         } else {
@@ -161,6 +169,6 @@ impl Method for OsgLlm {
             };
             Err(Failure::new(&status, message))
         };
-        Ok(prediction("osgllm", route, block, notes))
+        Ok(prediction(NAME, route, block, notes))
     }
 }

@@ -2,6 +2,9 @@
 //! through the batch round trip, and each method's pipeline.
 
 mod calls;
+mod gold;
 mod ltlcodegen;
+mod methods;
 mod osgllm;
+mod planners;
 mod support;

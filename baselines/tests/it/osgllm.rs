@@ -82,7 +82,7 @@ fn gold_replies_on_the_fixture_episode_give_the_annotated_route() {
     let ep = fixture(&map.map);
     let m = OsgLlm::new(Arc::new(gold_setup()));
     let p = m.predict(&map, &ep).unwrap();
-    let b = block(&p, "osgllm");
+    let b = block(&p, "osg-llm");
     assert_eq!(p.status, None, "{b}");
     let g = SceneGraph::build(&map.map);
     let fridge = g
@@ -154,7 +154,7 @@ fn a_mock_servers_replies_are_called_in_order_and_bad_ones_fail_the_episode() {
     let (s, mock) = server(&good_grounding, &good_ltl);
     let setup = Arc::new(server_setup(&s.url(), &tmp.path().join("c1"), None));
     let p = OsgLlm::new(setup).predict(&map, &ep).unwrap();
-    let b = block(&p, "osgllm");
+    let b = block(&p, "osg-llm");
     assert_eq!(p.status, None, "{b}");
     let ids: Vec<&str> = b["calls"]
         .as_array()
@@ -213,7 +213,7 @@ fn a_mock_servers_replies_are_called_in_order_and_bad_ones_fail_the_episode() {
             None,
         ));
         let p = OsgLlm::new(setup).predict(&map, &ep).unwrap();
-        let b = block(&p, "osgllm");
+        let b = block(&p, "osg-llm");
         assert_eq!(p.status.as_deref(), Some("ltl_translation_failed"), "{b}");
         assert!(
             p.trajectory.is_empty(),
@@ -256,7 +256,7 @@ fn three_calls_are_three_batch_rounds() {
     }
     let setup = Arc::new(server_setup("http://offline.invalid", &cache, None));
     let p = OsgLlm::new(setup).predict(&map, &ep).unwrap();
-    assert_eq!(p.status, None, "{}", block(&p, "osgllm"));
+    assert_eq!(p.status, None, "{}", block(&p, "osg-llm"));
 }
 
 #[test]

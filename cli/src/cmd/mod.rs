@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod ablate;
+pub mod baseline;
 pub mod bench;
 pub mod bench_import;
 pub mod check;
