@@ -34,6 +34,8 @@ pub mod iln;
 pub mod lang2ltl;
 pub mod lang2ltl2;
 pub mod limp;
+pub mod ltlcodegen;
+pub mod osgllm;
 pub mod registry;
 pub mod sayplan;
 

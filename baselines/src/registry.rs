@@ -26,8 +26,10 @@ impl Baseline {
 pub const BASELINES: &[Baseline] = &[
     Baseline::new(crate::lang2ltl::NAME, crate::lang2ltl::make),
     Baseline::new(crate::sayplan::method::NAME, crate::sayplan::method::make),
+    Baseline::new(crate::osgllm::NAME, crate::osgllm::method::make),
     Baseline::new(crate::lang2ltl2::NAME, crate::lang2ltl2::make),
     Baseline::new(crate::limp::NAME, crate::limp::make),
+    Baseline::new(crate::ltlcodegen::NAME, crate::ltlcodegen::method::make),
     Baseline::new(crate::iln::method::NAME, crate::iln::method::make),
 ];
 
