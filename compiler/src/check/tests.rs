@@ -735,3 +735,30 @@ mod robustness {
         }
     }
 }
+
+#[test]
+fn physical_relations_refuse_rooms_and_regions_next_to_refuses_rooms() {
+    // Grounding keeps only objects for these: a room or region argument would never hold.
+    for rel in ["on", "inside", "under", "holding"] {
+        expect(
+            &format!(
+                "let k = rooms(kitchen).only()\nroute {{ go objects(cup).{rel}(k).nearest() }}"
+            ),
+            &[("E0201", "k")],
+        );
+        expect(
+            &format!(
+                "route {{ go objects(cup).{rel}(rooms(kitchen).only().corners()).nearest() }}"
+            ),
+            &[("E0201", "rooms(kitchen).only().corners()")],
+        );
+    }
+    expect(
+        "let k = rooms(kitchen).only()\nroute { go objects(cup).next_to(k).nearest() }",
+        &[("E0201", "k")],
+    );
+    clean("route { go objects(cup).next_to(rooms(kitchen).only().corners()).nearest() }");
+    clean(
+        "route { go objects(cup).where(c => c.next_to(rooms(kitchen).only().doorways().only())).nearest() }",
+    );
+}

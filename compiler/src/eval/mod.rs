@@ -260,3 +260,5 @@ impl Grounder<'_, '_> {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_relations;

@@ -22,6 +22,12 @@ const DISTANCE: &[Ty] = &[Ty::Is(Type::Distance)];
 const DIRECTION: &[Ty] = &[Ty::Is(Type::Direction)];
 const METRIC: &[Ty] = &[Ty::Is(Type::Metric)];
 const INT: &[Ty] = &[Ty::Is(Type::Int)];
+const BESIDE: &[Ty] = &[
+    Ty::OBJECT,
+    Ty::Is(Type::Region),
+    Ty::SET_OBJECT,
+    Ty::Is(Type::Set(Elem::Region)),
+];
 
 const SET_T: &[Ty] = &[Ty::SetT];
 const SET_OBJECT: &[Ty] = &[Ty::SET_OBJECT];
@@ -44,7 +50,12 @@ const KTH_PARAMS: &[Param] = &[
     p("to", PLACE, HERE),
     p("by", METRIC, STRAIGHT),
 ];
-const X_OBJECTS: &[Param] = &[p("x", PLACES, Required)];
+/// `on`, `inside`, `under`, `holding`: physical relations between objects, so a room or a region
+/// is refused at check time rather than silently never holding.
+const X_OBJECTS: &[Param] = &[p("x", OBJECTS, Required)];
+/// `next_to` reads a region's cells too ("the plunger next to the corner"); a room is refused,
+/// since every object in it would be beside it.
+const X_BESIDE: &[Param] = &[p("x", BESIDE, Required)];
 const NEAR_PARAMS: &[Param] = &[
     p("x", PLACES, Required),
     p("within", DISTANCE, Default(DefaultValue::Distance(1.5))),
@@ -219,7 +230,7 @@ pub static BUILTINS: &[Builtin] = &[
     method(
         SET_OBJECT,
         "next_to",
-        X_OBJECTS,
+        X_BESIDE,
         Ty::SET_OBJECT,
         "Keeps the objects directly beside `x` (touching or almost).",
         "objects(window).next_to(objects(fridge))",
@@ -300,7 +311,7 @@ pub static BUILTINS: &[Builtin] = &[
     method(
         SINGLE_OBJECT,
         "next_to",
-        X_OBJECTS,
+        X_BESIDE,
         BOOL,
         "Whether the object is directly beside `x`.",
         "w => w.next_to(objects(fridge))",

@@ -114,6 +114,18 @@ impl MapQuery<'_> {
             && !self.related(a, b)
     }
 
+    /// `a.next_to(b)` where `b` is any place: an object by [`Self::next_to`]; a region (a corner,
+    /// a doorway, an area) when the footprint comes within `next_to_m` of its cells, so "the
+    /// plunger next to the corner" reads the corner's cells as the plunger's neighbour.
+    pub fn next_to_place(&self, a: &Object, b: Target) -> bool {
+        match b {
+            Target::Object(o) => self.next_to(a, o),
+            Target::Cells(_) => self.within(Target::Object(a), b, self.thresholds.next_to_m),
+            // The checker admits no room here: every object of a room would be "beside" it.
+            Target::Room(_) => false,
+        }
+    }
+
     /// `distance(a, b) <= within_m` (with the relations' 1e-9 m tolerance), rejecting places whose
     /// bounding boxes are already farther apart before measuring cells. The box gap never exceeds
     /// the distance and both scale by the same resolution, so the answer is the same.

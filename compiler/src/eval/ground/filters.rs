@@ -99,13 +99,16 @@ fn holds(
             );
             corridors.iter().any(|cor| cor.binary_search(&c).is_ok())
         }
+        "next_to" => {
+            let Some(o) = obj(p) else { return false };
+            xs.iter().any(|x| q.next_to_place(o, x.target(q)))
+        }
         _ => {
             let Some(o) = obj(p) else { return false };
             xs.iter().filter_map(obj).any(|x| match name {
                 "on" => q.on(o, x),
                 "inside" => q.inside(o, x),
                 "under" => q.under(o, x),
-                "next_to" => q.next_to(o, x),
                 "holding" => q.on(x, o) || q.inside(x, o),
                 _ => false,
             })
