@@ -7,6 +7,7 @@ mod eval_props;
 mod formats_doc;
 mod grounding2route;
 mod ltl_differential;
+mod prompt_lexicon;
 mod reference_vectors;
 mod report_methods;
 mod runner_resume;

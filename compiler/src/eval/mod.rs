@@ -262,3 +262,5 @@ impl Grounder<'_, '_> {
 mod tests;
 #[cfg(test)]
 mod tests_relations;
+#[cfg(test)]
+mod tests_route_places;

@@ -321,6 +321,7 @@ impl Grounder<'_, '_> {
                     direction: dir,
                     until: None,
                     passing: None,
+                    avoiding: None,
                     end: None,
                 };
                 let (dir, wps) = self.loop_shape(&c.value, ask);
@@ -349,6 +350,7 @@ impl Grounder<'_, '_> {
                     direction: w.direction,
                     until: w.until.as_ref(),
                     passing: w.passing.as_ref(),
+                    avoiding: w.avoiding.as_ref(),
                     end,
                 };
                 let (dir, wps) = self.loop_shape(&c.value, ask);

@@ -1,6 +1,8 @@
 //! Every relation built-in with every argument kind its signature admits, on the two-room fixture
 //! (`m2rc_stdlib::query::fixture`), where each answer can be worked out by hand. A relation that
 //! silently never holds for an admitted kind (issue 35 item 4: `next_to` of a corner) fails here.
+//! Also the language gaps of items 7-9 on the same fixture: containment in a region, rankings to
+//! the nearest member of a set, and a wall side chosen by exclusion.
 
 use super::*;
 use crate::ir::PlaceKind;
@@ -9,12 +11,16 @@ use m2rc_stdlib::query::fixture::two_rooms;
 /// Grounds `route { go <dest> }` with corners 0.2 m wide, so that on the 0.9 m-wide bedroom a
 /// corner is a patch of 2 × 2 cells and "beside a corner" can be false.
 fn go(dest: &str) -> Grounded {
+    go_with_corners(dest, 0.2)
+}
+
+fn go_with_corners(dest: &str, corner_radius_m: f64) -> Grounded {
     let src = format!("route {{ go {dest} }}");
     let parsed = m2rc_grammar::parse(&src);
     assert!(parsed.is_ok(), "{:?}", parsed.errors);
     let map = two_rooms();
     let mut q = MapQuery::new(&map);
-    q.thresholds.corner_radius_m = 0.2;
+    q.thresholds.corner_radius_m = corner_radius_m;
     ground(&parsed.program, &src, &q, &GroundOptions::default())
 }
 
@@ -165,4 +171,112 @@ fn near_with_an_object_a_room_and_a_region() {
         object("objects(lamp | house_plant).near(objects(bed).only(), within: 50cm).only()"),
         2
     );
+}
+
+#[test]
+fn in_and_contains_with_a_region() {
+    // Within 0.2 m of the bed: the lamp (0.2 m east of it); the rug is 0.3 m south.
+    assert_eq!(
+        object(
+            "objects(lamp | rug | chair).in(area_near(objects(bed).only(), within: 20cm)).only()"
+        ),
+        2
+    );
+    assert_eq!(
+        object(
+            "objects(lamp | rug).where(o => o.in(area_near(objects(bed).only(), within: 20cm))).only()"
+        ),
+        2
+    );
+    // Rooms still work, and a set of rooms and regions means any of them.
+    assert_eq!(
+        object("objects(fridge | bed).in(rooms(kitchen).only()).only()"),
+        8
+    );
+    // The kitchen's corners at the default 0.75 m on this 1 m-wide room: the fridge (rows 2-3,
+    // cols 16-17) lies in a northern one, and the lamp (in the bedroom) in none.
+    let fridge_corners = "rooms(kitchen).only().corners().where(c => c.contains(objects(fridge)))";
+    let g = go_with_corners(
+        &format!("{fridge_corners}.nearest(to: objects(fridge).only())"),
+        0.75,
+    );
+    assert!(
+        g.problems.iter().all(|p| !p.is_error()),
+        "{:#?}",
+        g.problems
+    );
+    let corner = g.ir.expect("ir").stages[0].target.cells.cells().to_vec();
+    assert!(corner.iter().all(|c| c.row < 10), "{corner:?}");
+    let g = go_with_corners(
+        &format!("objects(fridge | lamp).in({fridge_corners}).only()"),
+        0.75,
+    );
+    assert!(
+        g.problems.iter().all(|p| !p.is_error()),
+        "{:#?}",
+        g.problems
+    );
+    assert!(matches!(
+        g.ir.expect("ir").stages[0].target.kind,
+        PlaceKind::Object { id: 8, .. }
+    ));
+}
+
+#[test]
+fn rankings_to_a_set_measure_to_its_nearest_member() {
+    // To the fridge alone the lamp (row 3, col 7) beats the chair (rows 10-11, cols 3-4); with
+    // the plant (row 15, col 2) in the set, the chair is 0.4 m from it and wins.
+    assert_eq!(
+        object("objects(lamp | chair).nearest(to: objects(fridge).only())"),
+        2
+    );
+    assert_eq!(
+        object("objects(lamp | chair).nearest(to: objects(fridge | house_plant))"),
+        5
+    );
+    assert_eq!(
+        object("objects(lamp | chair).farthest(to: objects(fridge | house_plant))"),
+        2
+    );
+    assert_eq!(
+        object("objects(lamp | chair).kth_nearest(2, to: objects(fridge | house_plant))"),
+        2
+    );
+    assert_eq!(
+        object("objects(lamp | chair).nearest_first(to: objects(fridge | house_plant)).kth(1)"),
+        5
+    );
+}
+
+/// Issue 35 item 7: "take the side along the wall that does not pass by x" chooses by exclusion,
+/// the opposite side to `passing: x`, and the binding says why.
+#[test]
+fn follow_wall_avoiding_takes_the_side_passing_does_not() {
+    let binding = |arg: &str| {
+        let src = format!(
+            "route {{ go objects(fridge).only() {{ prefer follow_wall(rooms(bedroom).only(), until: doorway_leaving(rooms(bedroom).only()), {arg}: objects(lamp).only()) }} }}"
+        );
+        let parsed = m2rc_grammar::parse(&src);
+        assert!(parsed.is_ok(), "{:?}", parsed.errors);
+        let map = two_rooms();
+        let q = MapQuery::new(&map);
+        let g = ground(&parsed.program, &src, &q, &GroundOptions::default());
+        assert!(
+            g.problems.iter().all(|p| !p.is_error()),
+            "{:#?}",
+            g.problems
+        );
+        g.ir.expect("ir")
+            .route_bindings
+            .into_iter()
+            .find(|b| b.function == "follow_wall")
+            .expect("a follow_wall binding")
+            .resolved
+    };
+    let passing = binding("passing");
+    let avoiding = binding("avoiding");
+    assert!(passing.contains("the side passing lamp"), "{passing}");
+    assert!(avoiding.contains("the side avoiding lamp"), "{avoiding}");
+    let side = |s: &str| s.split(' ').next().unwrap_or("").to_string();
+    assert_ne!(side(&passing), side(&avoiding), "{passing} / {avoiding}");
 }

@@ -101,6 +101,8 @@ pub struct WallFollow {
     pub until: Option<PlaceVal>,
     /// Go round on the side that passes this place.
     pub passing: Option<PlaceVal>,
+    /// Go round on the side that keeps farther from this place.
+    pub avoiding: Option<PlaceVal>,
 }
 
 /// A lambda: its parameter and its body (shared, so applying it never copies the tree).

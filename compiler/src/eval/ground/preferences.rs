@@ -49,6 +49,7 @@ fn path_shape(g: &mut Grounder, c: Call) -> Value {
                 direction: dir,
                 until: place(2),
                 passing: place(3),
+                avoiding: place(4),
             };
             Value::Pref(if name == "patrol" {
                 Pref::Patrol(w)
