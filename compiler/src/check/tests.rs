@@ -774,6 +774,7 @@ fn regions_as_containers_and_sets_as_ranking_targets_check() {
     );
     clean("route { go objects(chair).nearest(to: objects(dresser)) }");
     clean("route { go objects(chair).nearest_first(to: objects(dresser)).kth(2) }");
+    clean("route { go objects(bed).nearest() { prefer near_each(objects(dresser)) } }");
 }
 
 #[test]

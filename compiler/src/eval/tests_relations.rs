@@ -280,3 +280,45 @@ fn follow_wall_avoiding_takes_the_side_passing_does_not() {
     let side = |s: &str| s.split(' ').next().unwrap_or("").to_string();
     assert_ne!(side(&passing), side(&avoiding), "{passing} / {avoiding}");
 }
+
+/// Issue 35 item 8: "stay close to all the dressers" is one near term per member; `near(set)`
+/// stays one term measured to the nearest member.
+#[test]
+fn near_each_is_one_near_term_per_member_with_the_same_scopes() {
+    let constraints = |pref: &str| {
+        let src = format!(
+            "route {{ go objects(fridge).only() {{ prefer {pref} within rooms(bedroom).only() }} }}"
+        );
+        let parsed = m2rc_grammar::parse(&src);
+        assert!(parsed.is_ok(), "{:?}", parsed.errors);
+        let map = two_rooms();
+        let q = MapQuery::new(&map);
+        let g = ground(&parsed.program, &src, &q, &GroundOptions::default());
+        assert!(
+            g.problems.iter().all(|p| !p.is_error()),
+            "{:#?}",
+            g.problems
+        );
+        g.ir.expect("ir").constraints
+    };
+    let each = constraints("near_each(objects(bed | lamp))");
+    assert_eq!(each.len(), 2);
+    let labels: Vec<String> = each
+        .iter()
+        .map(|c| match &c.kind {
+            crate::ir::ConstraintKind::Near { reference } => reference.label.clone(),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert!(
+        labels[0].starts_with("bed #1") && labels[1].starts_with("lamp #2"),
+        "{labels:?}"
+    );
+    for c in &each {
+        assert_eq!(c.stage_scope, crate::ir::StageScope::Stages(vec![0]));
+        assert!(
+            matches!(&c.spatial_scope, Some(p) if matches!(p.kind, PlaceKind::Room { id: 1, .. }))
+        );
+    }
+    assert_eq!(constraints("near(objects(bed | lamp))").len(), 1);
+}

@@ -81,6 +81,8 @@ impl PlaceVal {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Pref {
     Near(Vec<PlaceVal>),
+    /// `near_each`: one near term per place, expanded when the constraint is placed.
+    NearEach(Vec<PlaceVal>),
     Far(Vec<PlaceVal>),
     Closer(Vec<PlaceVal>, Vec<PlaceVal>),
     /// A direction of `None` was left out by the writer: grounding takes the shorter way.

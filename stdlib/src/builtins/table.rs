@@ -585,8 +585,15 @@ pub static BUILTINS: &[Builtin] = &[
         "near",
         &[p("x", PLACES, Required)],
         PREF,
-        "Stay as close as possible to `x`.",
+        "Stay as close as possible to `x` (to the nearest of them when `x` is a set).",
         "prefer near(objects(sink).in(bath))",
+    ),
+    free(
+        "near_each",
+        &[p("x", PLACES, Required)],
+        PREF,
+        "One near preference for every one of the places, not only the nearest (\"all the dressers\").",
+        "prefer near_each(objects(dresser).in(bedroom))",
     ),
     free(
         "far",
