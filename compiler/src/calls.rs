@@ -417,6 +417,16 @@ impl Checker<'_> {
                             .help(format!("for the area between two places write `{fixed}`"))
                             .suggest(e.span, fixed);
                     }
+                    // `through(x)` on one place: "pass close by x" is a near preference; the
+                    // writer gave one place, so no second one is offered.
+                    if b.name == "through" && args.len() == 1 && args[0].name.is_none() {
+                        let fixed = format!("near({})", self.text(args[0].value.span));
+                        d = d
+                            .help(format!(
+                                "`through` is a path past two to four places in order; to stay close to one place (\"pass close by x\") write `{fixed}`"
+                            ))
+                            .suggest(e.span, fixed);
+                    }
                     // A word the instruction must choose: offer every one, never pick.
                     let words: Vec<&str> = builtins::ENUM_WORDS
                         .iter()

@@ -214,27 +214,15 @@ pub fn verify(ir: &RouteIr, q: &MapQuery) -> Vec<Problem> {
     out
 }
 
-/// The planner's goal for an object with no free cell near it, as the reference plans it (method
-/// notes §4.2): the traversable cell of the object's room nearest the object's centre (ties: lower
-/// row, then lower column). Without it, an object on a bed or in a shelf that the reference
-/// reaches would be rejected here.
+/// The planner's goal for an object with no free cell near it (`MapQuery::room_fallback`, method
+/// notes §4.2). Without it, an object on a bed or in a shelf that the reference reaches would be
+/// rejected here.
 fn object_fallback(place: &Place, q: &MapQuery) -> Option<Cell> {
     let PlaceKind::Object { id, room, .. } = &place.kind else {
         return None;
     };
-    let room = (*room)?;
     let center = q.map().object(*id).map(|o| o.center)?;
-    q.room_cells(room)
-        .iter()
-        .copied()
-        .filter(|&c| q.is_traversable(c))
-        .min_by(|a, b| {
-            let d = |c: Cell| {
-                let (dr, dc) = (c.row as f64 - center[0], c.col as f64 - center[1]);
-                dr * dr + dc * dc
-            };
-            d(*a).total_cmp(&d(*b)).then_with(|| a.cmp(b))
-        })
+    q.room_fallback((*room)?, center)
 }
 
 fn places(k: &ConstraintKind) -> Vec<&Place> {

@@ -6,6 +6,7 @@
 //! `E00xx` codes.
 
 pub mod ast;
+mod conditional;
 pub mod erase;
 pub mod error;
 pub mod lexer;

@@ -123,6 +123,23 @@ fn run<'s, T>(
         .filter_map(|e| convert(source, &tokens, e))
         .collect();
 
+    // Inside an `if` written as a route statement, later errors echo that one.
+    let if_statements: Vec<(usize, usize)> = syntax
+        .iter()
+        .filter(|e| e.help.as_deref() == Some(crate::conditional::HELP))
+        .filter_map(|e| {
+            let i = tokens.iter().position(|t| t.0 == e.span.start)?;
+            Some((e.span.start, crate::conditional::statement_end(&tokens, i)?))
+        })
+        .collect();
+    let syntax: Vec<ParseError> = syntax
+        .into_iter()
+        .filter(|e| {
+            !if_statements
+                .iter()
+                .any(|&(s, end)| e.span.start > s && e.span.start < end)
+        })
+        .collect();
     // An opener the parser already reported as unclosed is not reported again at the end.
     errors.retain(|e| match &e.kind {
         ParseErrorKind::UnclosedDelimiter { open, .. } => !syntax.iter().any(
@@ -602,6 +619,12 @@ fn classify_unexpected(
     let next = index.and_then(|i| tokens.get(i + 1));
     let found = describe_found(source, &token);
 
+    if token.1 == Tok::If
+        && expects("go")
+        && let Some(i) = index
+    {
+        return crate::conditional::if_statement(source, tokens, i, words);
+    }
     if token.1 == Tok::Assign && expects("==") {
         return ParseError::new(
             span,

@@ -8,6 +8,7 @@ mod formats_doc;
 mod grounding2route;
 mod ltl_differential;
 mod nav2_roundtrip;
+mod prompt_lexicon;
 mod reference_vectors;
 mod report_methods;
 mod runner_resume;

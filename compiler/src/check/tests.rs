@@ -735,3 +735,59 @@ mod robustness {
         }
     }
 }
+
+#[test]
+fn physical_relations_refuse_rooms_and_regions_next_to_refuses_rooms() {
+    // Grounding keeps only objects for these: a room or region argument would never hold.
+    for rel in ["on", "inside", "under", "holding"] {
+        expect(
+            &format!(
+                "let k = rooms(kitchen).only()\nroute {{ go objects(cup).{rel}(k).nearest() }}"
+            ),
+            &[("E0201", "k")],
+        );
+        expect(
+            &format!(
+                "route {{ go objects(cup).{rel}(rooms(kitchen).only().corners()).nearest() }}"
+            ),
+            &[("E0201", "rooms(kitchen).only().corners()")],
+        );
+    }
+    expect(
+        "let k = rooms(kitchen).only()\nroute { go objects(cup).next_to(k).nearest() }",
+        &[("E0201", "k")],
+    );
+    clean("route { go objects(cup).next_to(rooms(kitchen).only().corners()).nearest() }");
+    clean(
+        "route { go objects(cup).where(c => c.next_to(rooms(kitchen).only().doorways().only())).nearest() }",
+    );
+}
+
+#[test]
+fn regions_as_containers_and_sets_as_ranking_targets_check() {
+    clean("route { go objects(painting).in(rooms(bedroom).only().corners().farthest()).only() }");
+    clean(
+        "route { go objects(painting).where(p => p.in(area_near(objects(bed).nearest()))).nearest() }",
+    );
+    clean(
+        "route { go rooms(bedroom).only().corners().where(c => c.contains(objects(painting))).only() }",
+    );
+    clean("route { go objects(chair).nearest(to: objects(dresser)) }");
+    clean("route { go objects(chair).nearest_first(to: objects(dresser)).kth(2) }");
+    clean("route { go objects(bed).nearest() { prefer near_each(objects(dresser)) } }");
+}
+
+#[test]
+fn a_one_place_through_offers_near_and_no_second_place() {
+    let src = "route { go objects(bed).nearest() { prefer through(objects(box).nearest()) } }";
+    expect(src, &[("E0206", "through(objects(box).nearest())")]);
+    let d = &run(src).diagnostics[0];
+    let help = d.help.clone().unwrap_or_default();
+    assert!(help.contains("near(objects(box).nearest())"), "{help}");
+    fixes_to_clean(src);
+    let fixed = apply_suggestions(src, &run(src).diagnostics);
+    assert!(
+        fixed.contains("prefer near(objects(box).nearest())"),
+        "{fixed}"
+    );
+}

@@ -260,3 +260,7 @@ impl Grounder<'_, '_> {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_relations;
+#[cfg(test)]
+mod tests_route_places;

@@ -252,6 +252,28 @@ impl Grounder<'_, '_> {
                     place: self.union_place(&places),
                 }
             }
+            // "Stay close to all the dressers": one near term per member, same scopes.
+            (Kind::Prefer, Value::Pref(Pref::NearEach(xs))) => {
+                if xs.is_empty() {
+                    self.problems.push(Problem::warning(
+                        codes::EMPTY_CONSTRAINT,
+                        c.value.span,
+                        "`near_each` refers to nothing on this map; the preference is dropped",
+                    ));
+                }
+                for x in &xs {
+                    b.pending.push(Pending {
+                        kind: ConstraintKind::Near {
+                            reference: self.ir_place(x),
+                        },
+                        within: within.clone(),
+                        during: during.clone(),
+                        stage,
+                        span: c.span,
+                    });
+                }
+                return;
+            }
             (Kind::Prefer, Value::Pref(p)) => match self.preference(c, p, stage) {
                 Some(k) => k,
                 None => return,
@@ -297,6 +319,7 @@ impl Grounder<'_, '_> {
         let patrol = matches!(p, Pref::Patrol(..));
         Some(match p {
             Pref::Near(xs) if xs.is_empty() => return empty(self, "near"),
+            Pref::NearEach(_) => return None,
             Pref::Far(xs) if xs.is_empty() => return empty(self, "far"),
             Pref::Near(xs) => ConstraintKind::Near {
                 reference: self.union_place(&xs),
@@ -321,6 +344,7 @@ impl Grounder<'_, '_> {
                     direction: dir,
                     until: None,
                     passing: None,
+                    avoiding: None,
                     end: None,
                 };
                 let (dir, wps) = self.loop_shape(&c.value, ask);
@@ -349,6 +373,7 @@ impl Grounder<'_, '_> {
                     direction: w.direction,
                     until: w.until.as_ref(),
                     passing: w.passing.as_ref(),
+                    avoiding: w.avoiding.as_ref(),
                     end,
                 };
                 let (dir, wps) = self.loop_shape(&c.value, ask);

@@ -2,7 +2,8 @@
 //! they go, and which way round when the instruction does not say.
 //!
 //! A direction the writer left out is never guessed: both ways are built and the shorter one is
-//! taken (for `follow_wall(..., passing: x)`, the way whose waypoints come nearest `x`); the
+//! taken (for `follow_wall(..., passing: x)`, the way whose waypoints come nearest `x`; with
+//! `avoiding: x`, the way whose waypoints keep farthest from it); the
 //! choice is recorded as a route binding (`follow_wall` -> `clockwise (shorter: 7.9 m vs 9.4 m)`),
 //! so the IR and `m2rc compile` say which was picked.
 
@@ -25,6 +26,9 @@ pub(super) struct LoopAsk<'a> {
     pub until: Option<&'a PlaceVal>,
     /// Choose the side whose waypoints pass nearest this place.
     pub passing: Option<&'a PlaceVal>,
+    /// Choose the side whose waypoints keep farthest from this place (chosen by exclusion: "the
+    /// side that does not pass by the dresser").
+    pub avoiding: Option<&'a PlaceVal>,
     /// A final waypoint after the loop (the doorway a patrol leaves by).
     pub end: Option<Vec<Cell>>,
 }
@@ -57,9 +61,13 @@ impl Grounder<'_, '_> {
                 wps.push(end.clone());
             }
             let len = self.polyline_m(ask.from, &wps);
-            let pass = ask
-                .passing
-                .map_or(0.0, |p| self.nearest_approach_m(&wps, p));
+            // One score, lower is better: the approach to `passing`, or minus the approach to
+            // `avoiding`.
+            let pass = match (ask.passing, ask.avoiding) {
+                (Some(p), _) => self.nearest_approach_m(&wps, p),
+                (None, Some(x)) => -self.nearest_approach_m(&wps, x),
+                (None, None) => 0.0,
+            };
             options.push((d, wps, len, pass));
         }
         if options.len() == 1 {
@@ -68,17 +76,26 @@ impl Grounder<'_, '_> {
         }
         // Passing side first, then length; exact ties keep counterclockwise, and say so.
         let (a, b) = (&options[0], &options[1]);
-        let first_wins = match ask.passing {
-            Some(_) if (a.3 - b.3).abs() > 1e-9 => a.3 < b.3,
-            _ => a.2 < b.2 - 1e-9,
+        let sided = ask.passing.is_some() || ask.avoiding.is_some();
+        let first_wins = if sided && (a.3 - b.3).abs() > 1e-9 {
+            a.3 < b.3
+        } else {
+            a.2 < b.2 - 1e-9
         };
         let (win, lose) = if first_wins { (0, 1) } else { (1, 0) };
-        let reason = match ask.passing {
-            Some(p) if (options[0].3 - options[1].3).abs() > 1e-9 => format!(
+        let differ = (options[0].3 - options[1].3).abs() > 1e-9;
+        let reason = match (ask.passing, ask.avoiding) {
+            (Some(p), _) if differ => format!(
                 "the side passing {} ({:.1} m from it vs {:.1} m)",
                 p.label(self.q),
                 options[win].3,
                 options[lose].3
+            ),
+            (None, Some(x)) if differ => format!(
+                "the side avoiding {} ({:.1} m from it vs {:.1} m)",
+                x.label(self.q),
+                -options[win].3,
+                -options[lose].3
             ),
             _ if (options[0].2 - options[1].2).abs() <= 1e-9 => {
                 "both ways are equally long".to_string()

@@ -81,6 +81,8 @@ impl PlaceVal {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Pref {
     Near(Vec<PlaceVal>),
+    /// `near_each`: one near term per place, expanded when the constraint is placed.
+    NearEach(Vec<PlaceVal>),
     Far(Vec<PlaceVal>),
     Closer(Vec<PlaceVal>, Vec<PlaceVal>),
     /// A direction of `None` was left out by the writer: grounding takes the shorter way.
@@ -101,6 +103,8 @@ pub struct WallFollow {
     pub until: Option<PlaceVal>,
     /// Go round on the side that passes this place.
     pub passing: Option<PlaceVal>,
+    /// Go round on the side that keeps farther from this place.
+    pub avoiding: Option<PlaceVal>,
 }
 
 /// A lambda: its parameter and its body (shared, so applying it never copies the tree).

@@ -17,6 +17,8 @@ Rules of .m2r:
   A singular noun is not proof of uniqueness: prefer a ranking when the instruction gives one.
 - Filters narrow a set (`.in(room)`, `.near(x)`, `.on(x)`, `.next_to(x)`, `.where(o => ...)`);
   the same words on one thing are predicates (Bool) for `.where` and `if`.
+- `if` is an expression that chooses a value, never a statement around stages: \"go to the lamp
+  if there is one, else the desk\" is `go if lamps.exists() { lamps.nearest() } else { desk }`.
 - Stages: each `go <place>` is one stage, visited in the order written. Constraints inside a
   stage body `go x { ... }` hold only while heading to x. Constraints after the stages in the
   route block hold for the whole route, or only `during` the named stages (`go x as name`).

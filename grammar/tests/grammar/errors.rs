@@ -331,3 +331,48 @@ fn huge_broken_files_finish_with_a_bounded_error_list() {
     assert_eq!(parsed.errors.len(), m2rc_grammar::parse::MAX_SYNTAX_ERRORS);
     assert_eq!(parsed.program.items.len(), 60_000);
 }
+
+/// Issue 35 item 2: `if` written as a route statement is reported once, points at the
+/// expression form, and when each branch is one bodiless `go` the fix rewrites it to choose the
+/// destination, which parses clean.
+#[test]
+fn if_as_a_route_statement_points_at_the_if_expression() {
+    let src = "let lamps = objects(floor_lamp)\nroute {\n  if lamps.exists() { go lamps.nearest() } else { go objects(desk).only() }\n  go objects(bed).nearest()\n}";
+    let errs = errors(src);
+    assert_eq!(errs.len(), 1, "{errs:#?}");
+    let e = &errs[0];
+    assert_eq!(e.code(), "E0002");
+    assert_eq!(&src[e.span.start..e.span.end], "if");
+    assert_eq!(e.message, "`if` is not a route statement");
+    assert!(
+        e.help
+            .as_deref()
+            .is_some_and(|h| h.contains("go if cond { a } else { b }")),
+        "{:?}",
+        e.help
+    );
+    let fix = e.fix.as_ref().expect("a rewrite");
+    let fixed = format!(
+        "{}{}{}",
+        &src[..fix.span.start],
+        fix.replacement,
+        &src[fix.span.end..]
+    );
+    assert!(
+        fixed.contains("go if lamps.exists() { lamps.nearest() } else { objects(desk).only() }\n"),
+        "{fixed}"
+    );
+    assert!(parse(&fixed).errors.is_empty(), "{fixed}");
+    // A branch with a stage body or two stages has no single destination: help, no rewrite.
+    for src in [
+        "route {\n  if true { go objects(bed).nearest() { avoid rooms(kitchen) } } else { go objects(desk).only() }\n}",
+        "route {\n  if true { go objects(bed).nearest() go objects(sofa).nearest() } else { go objects(desk).only() }\n}",
+    ] {
+        let errs = errors(src);
+        let e = errs
+            .iter()
+            .find(|e| e.message == "`if` is not a route statement")
+            .unwrap_or_else(|| panic!("{src}: {errs:#?}"));
+        assert!(e.fix.is_none(), "{src}: {:?}", e.fix);
+    }
+}

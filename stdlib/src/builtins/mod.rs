@@ -6,6 +6,7 @@
 pub mod signature;
 pub mod synonyms;
 pub mod table;
+mod table_parts;
 pub mod types;
 
 pub use signature::{
@@ -133,7 +134,7 @@ mod tests {
         let b = methods("nearest").next().unwrap();
         assert_eq!(
             b.signature(Some(Elem::Object)),
-            "Set<Object>.nearest(to: Place = here, by: Metric = straight) -> Object"
+            "Set<Object>.nearest(to: Place | Set<Place> = here, by: Metric = straight) -> Object"
         );
         let o = functions("objects").next().unwrap();
         assert_eq!(

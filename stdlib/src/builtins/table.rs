@@ -6,93 +6,7 @@
 //! `Object.near(x)` is a predicate, the free `near(x)` is a preference); the checker picks the row
 //! whose receiver accepts the actual receiver type.
 
-use super::signature::{
-    Builtin, Constant, DefaultValue, EnumWord, Metric, Param, Receiver, Requirement, Ty,
-};
-use super::types::{Elem, Type};
-
-use Requirement::{Default, Optional, Required};
-
-const CATEGORY: &[Ty] = &[Ty::Is(Type::Category)];
-const PLACE: &[Ty] = &[Ty::PLACE];
-const ROOM: &[Ty] = &[Ty::ROOM];
-const PLACES: &[Ty] = &[Ty::PLACE, Ty::SET_PLACE];
-const OBJECTS: &[Ty] = &[Ty::OBJECT, Ty::SET_OBJECT];
-const DISTANCE: &[Ty] = &[Ty::Is(Type::Distance)];
-const DIRECTION: &[Ty] = &[Ty::Is(Type::Direction)];
-const METRIC: &[Ty] = &[Ty::Is(Type::Metric)];
-const INT: &[Ty] = &[Ty::Is(Type::Int)];
-
-const SET_T: &[Ty] = &[Ty::SetT];
-const SET_OBJECT: &[Ty] = &[Ty::SET_OBJECT];
-const SET_ROOM: &[Ty] = &[Ty::SET_ROOM];
-const SINGLE_OBJECT: &[Ty] = &[Ty::OBJECT];
-const SINGLE_ROOM: &[Ty] = &[Ty::ROOM];
-const SINGLE_PLACE: &[Ty] = &[Ty::PLACE];
-const ROOM_OR_ROOMS: &[Ty] = &[Ty::ROOM, Ty::SET_ROOM];
-
-const HERE: Requirement = Default(DefaultValue::Here);
-const STRAIGHT: Requirement = Default(DefaultValue::Metric(Metric::Straight));
-
-const fn p(name: &'static str, ty: &'static [Ty], req: Requirement) -> Param {
-    Param { name, ty, req }
-}
-
-const RANK_PARAMS: &[Param] = &[p("to", PLACE, HERE), p("by", METRIC, STRAIGHT)];
-const KTH_PARAMS: &[Param] = &[
-    p("k", INT, Required),
-    p("to", PLACE, HERE),
-    p("by", METRIC, STRAIGHT),
-];
-const X_OBJECTS: &[Param] = &[p("x", PLACES, Required)];
-const NEAR_PARAMS: &[Param] = &[
-    p("x", PLACES, Required),
-    p("within", DISTANCE, Default(DefaultValue::Distance(1.5))),
-];
-const BETWEEN_PARAMS: &[Param] = &[p("a", PLACES, Required), p("b", PLACES, Required)];
-const PRED: &[Param] = &[p("pred", &[Ty::PredT], Required)];
-const KEY: &[Param] = &[p("key", &[Ty::KeyT], Required)];
-const NONE: &[Param] = &[];
-
-const fn free(
-    name: &'static str,
-    params: &'static [Param],
-    ret: Ty,
-    doc: &'static str,
-    example: &'static str,
-) -> Builtin {
-    Builtin {
-        name,
-        receiver: Receiver::Free,
-        params,
-        ret,
-        doc,
-        example,
-    }
-}
-
-const fn method(
-    recv: &'static [Ty],
-    name: &'static str,
-    params: &'static [Param],
-    ret: Ty,
-    doc: &'static str,
-    example: &'static str,
-) -> Builtin {
-    Builtin {
-        name,
-        receiver: Receiver::Method(recv),
-        params,
-        ret,
-        doc,
-        example,
-    }
-}
-
-const BOOL: Ty = Ty::Is(Type::Bool);
-const PREF: Ty = Ty::Is(Type::Preference);
-const REGION: Ty = Ty::Is(Type::Region);
-const SET_REGION: Ty = Ty::Is(Type::Set(Elem::Region));
+use super::table_parts::*;
 
 /// Every built-in function and method, grouped as the language reference shows them.
 pub static BUILTINS: &[Builtin] = &[
@@ -115,9 +29,9 @@ pub static BUILTINS: &[Builtin] = &[
     method(
         SET_T,
         "in",
-        &[p("room", ROOM_OR_ROOMS, Required)],
+        &[p("room", AREAS, Required)],
         Ty::SetT,
-        "Keeps the elements that lie in the room (or in any of the rooms).",
+        "Keeps the elements that lie in the room or region (a corner, an area; in any of several): \"the painting in the farthest corner\" is `objects(painting).in(corner)`.",
         "objects(sink).in(kitchen_room)",
     ),
     method(
@@ -219,7 +133,7 @@ pub static BUILTINS: &[Builtin] = &[
     method(
         SET_OBJECT,
         "next_to",
-        X_OBJECTS,
+        X_BESIDE,
         Ty::SET_OBJECT,
         "Keeps the objects directly beside `x` (touching or almost).",
         "objects(window).next_to(objects(fridge))",
@@ -260,9 +174,9 @@ pub static BUILTINS: &[Builtin] = &[
     method(
         SINGLE_OBJECT,
         "in",
-        &[p("room", ROOM_OR_ROOMS, Required)],
+        &[p("room", AREAS, Required)],
         BOOL,
-        "Whether the object lies in the room (in any of the rooms).",
+        "Whether the object lies in the room or region (in any of several).",
         "o => o.in(kitchen)",
     ),
     method(
@@ -300,7 +214,7 @@ pub static BUILTINS: &[Builtin] = &[
     method(
         SINGLE_OBJECT,
         "next_to",
-        X_OBJECTS,
+        X_BESIDE,
         BOOL,
         "Whether the object is directly beside `x`.",
         "w => w.next_to(objects(fridge))",
@@ -328,6 +242,14 @@ pub static BUILTINS: &[Builtin] = &[
         BOOL,
         "Whether the room contains `x` (any of `x`).",
         "r => r.contains(objects(desk))",
+    ),
+    method(
+        &[Ty::Is(Type::Region)],
+        "contains",
+        &[p("x", PLACES, Required)],
+        BOOL,
+        "Whether the region (a corner, an area) holds `x` (any of `x`): at least half of its cells, or the cell at its centre.",
+        "c => c.contains(objects(painting))",
     ),
     method(
         SINGLE_ROOM,
@@ -432,7 +354,7 @@ pub static BUILTINS: &[Builtin] = &[
         "nearest",
         RANK_PARAMS,
         Ty::T,
-        "The element nearest to `to`.",
+        "The element nearest to `to` (to its nearest member when `to` is a set: \"the chair nearest to any dresser\").",
         "objects(desk).nearest()",
     ),
     method(
@@ -440,7 +362,7 @@ pub static BUILTINS: &[Builtin] = &[
         "farthest",
         RANK_PARAMS,
         Ty::T,
-        "The element farthest from `to`.",
+        "The element farthest from `to` (from its nearest member when `to` is a set).",
         "objects(garbage_can).farthest(by: travel)",
     ),
     method(
@@ -663,8 +585,15 @@ pub static BUILTINS: &[Builtin] = &[
         "near",
         &[p("x", PLACES, Required)],
         PREF,
-        "Stay as close as possible to `x`.",
+        "Stay as close as possible to `x` (to the nearest of them when `x` is a set).",
         "prefer near(objects(sink).in(bath))",
+    ),
+    free(
+        "near_each",
+        &[p("x", PLACES, Required)],
+        PREF,
+        "One near preference for every one of the places, not only the nearest (\"all the dressers\").",
+        "prefer near_each(objects(dresser).in(bedroom))",
     ),
     free(
         "far",
@@ -694,9 +623,10 @@ pub static BUILTINS: &[Builtin] = &[
             p("direction", DIRECTION, Optional),
             p("until", PLACE, Optional),
             p("passing", PLACE, Optional),
+            p("avoiding", PLACE, Optional),
         ],
         PREF,
-        "Walk along the room's walls once round, or only as far as `until`; without a direction, on the side passing `passing`, else the shorter way (the binding says which).",
+        "Walk along the room's walls once round, or only as far as `until`; without a direction, on the side passing `passing` or the side keeping farther from `avoiding` (\"the wall side away from the dresser\"), else the shorter way (the binding says which).",
         "prefer follow_wall(start.room(), until: doorway_leaving(start.room()), passing: sofa)",
     ),
     free(
@@ -718,7 +648,7 @@ pub static BUILTINS: &[Builtin] = &[
             p("d", PLACE, Optional),
         ],
         PREF,
-        "Pass close by `a`, then `b` (then `c`, then `d`) in this order: within 0.5 m of an object or region, inside a room.",
+        "A path that goes past two to four places in the order written (`a`, then `b`, then `c`, then `d`): within 0.5 m of an object or region, inside a room. One place is not a path: for a single place use `near(x)`.",
         "prefer through(sofa, lamp, desk) within living",
     ),
     free(

@@ -50,7 +50,9 @@ impl MapQuery<'_> {
     }
 
     /// Where travel to or from a place starts: its own traversable cells; for a place with none
-    /// (furniture), the free cells within 0.3 m of it (Chebyshev), else those within 0.6 m.
+    /// (furniture), the free cells within 0.3 m of it (Chebyshev), else those within 0.6 m; for an
+    /// object with neither (a card on a sofa), the planner's goal fallback
+    /// ([`MapQuery::room_fallback`]), so that a stage starting at it has somewhere to start from.
     pub fn band(&self, t: Target) -> Vec<Cell> {
         let cells = self.cells(t);
         let mut out: Vec<Cell> = cells
@@ -82,9 +84,33 @@ impl MapQuery<'_> {
                 }
             }
         }
+        if out.is_empty()
+            && let Target::Object(o) = t
+            && let Some(c) = o.room.and_then(|r| self.room_fallback(r, o.center))
+        {
+            out.push(c);
+        }
         out.sort_unstable();
         out.dedup();
         out
+    }
+
+    /// The planner's goal for an object with no free cell near it, as the reference plans it
+    /// (method notes §4.2): the traversable cell of `room` nearest `center` (ties: lower row, then
+    /// lower column). The verifier and the band of an object share it, so a destination the
+    /// planner reaches is also a place the next stage can start from.
+    pub fn room_fallback(&self, room: u32, center: [f64; 2]) -> Option<Cell> {
+        self.room_cells(room)
+            .iter()
+            .copied()
+            .filter(|&c| self.is_traversable(c))
+            .min_by(|a, b| {
+                let d = |c: Cell| {
+                    let (dr, dc) = (c.row as f64 - center[0], c.col as f64 - center[1]);
+                    dr * dr + dc * dc
+                };
+                d(*a).total_cmp(&d(*b)).then_with(|| a.cmp(b))
+            })
     }
 
     /// Travel distances from the band of `from` to every cell.

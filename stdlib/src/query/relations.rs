@@ -114,6 +114,46 @@ impl MapQuery<'_> {
             && !self.related(a, b)
     }
 
+    /// `a.next_to(b)` where `b` is any place: an object by [`Self::next_to`]; a region (a corner,
+    /// a doorway, an area) when the footprint comes within `next_to_m` of its cells, so "the
+    /// plunger next to the corner" reads the corner's cells as the plunger's neighbour.
+    pub fn next_to_place(&self, a: &Object, b: Target) -> bool {
+        match b {
+            Target::Object(o) => self.next_to(a, o),
+            Target::Cells(_) => self.within(Target::Object(a), b, self.thresholds.next_to_m),
+            // The checker admits no room here: every object of a room would be "beside" it.
+            Target::Room(_) => false,
+        }
+    }
+
+    /// `x.in(region)` / `region.contains(x)`: at least half of `x`'s cells lie in the region's
+    /// (sorted) cells, or the cell under `x`'s centre does. A painting hung in a corner has its
+    /// footprint on the wall line, so the centre alone would miss it as often as it hits.
+    pub fn lies_in(&self, x: Target, region: &[Cell]) -> bool {
+        let cells = self.cells(x);
+        if cells.is_empty() || region.is_empty() {
+            return false;
+        }
+        let inside = cells
+            .iter()
+            .filter(|c| region.binary_search(c).is_ok())
+            .count();
+        if 2 * inside >= cells.len() {
+            return true;
+        }
+        let centre = match x {
+            Target::Object(o) => Some(o.center),
+            _ => Self::centroid(cells),
+        };
+        centre.is_some_and(|[r, c]| {
+            r >= 0.0
+                && c >= 0.0
+                && region
+                    .binary_search(&Cell::new(r.round() as u32, c.round() as u32))
+                    .is_ok()
+        })
+    }
+
     /// `distance(a, b) <= within_m` (with the relations' 1e-9 m tolerance), rejecting places whose
     /// bounding boxes are already farther apart before measuring cells. The box gap never exceeds
     /// the distance and both scale by the same resolution, so the answer is the same.

@@ -76,14 +76,18 @@ fn holds(
     };
     let room_ids = || super::room_ids(xs).into_iter();
     match name {
-        "in" => p.room_of(q).is_some_and(|r| room_ids().any(|x| x == r)),
+        "in" => xs.iter().any(|x| match x {
+            PlaceVal::Region(r) => q.lies_in(p.target(q), &r.cells),
+            _ => p.room_of(q).is_some_and(|r| room_ids().any(|x| x == r)),
+        }),
         "near" => xs
             .iter()
             .any(|x| !x.same(p) && q.near(p.target(q), x.target(q), within)),
-        "containing" | "contains" => {
-            let PlaceVal::Room(r) = p else { return false };
-            xs.iter().any(|x| x.room_of(q) == Some(*r))
-        }
+        "containing" | "contains" => match p {
+            PlaceVal::Room(r) => xs.iter().any(|x| x.room_of(q) == Some(*r)),
+            PlaceVal::Region(r) => xs.iter().any(|x| q.lies_in(x.target(q), &r.cells)),
+            PlaceVal::Object(_) => false,
+        },
         "adjacent_to" => {
             let PlaceVal::Room(r) = p else { return false };
             room_ids().any(|x| q.adjacent(*r, x))
@@ -99,13 +103,16 @@ fn holds(
             );
             corridors.iter().any(|cor| cor.binary_search(&c).is_ok())
         }
+        "next_to" => {
+            let Some(o) = obj(p) else { return false };
+            xs.iter().any(|x| q.next_to_place(o, x.target(q)))
+        }
         _ => {
             let Some(o) = obj(p) else { return false };
             xs.iter().filter_map(obj).any(|x| match name {
                 "on" => q.on(o, x),
                 "inside" => q.inside(o, x),
                 "under" => q.under(o, x),
-                "next_to" => q.next_to(o, x),
                 "holding" => q.on(x, o) || q.inside(x, o),
                 _ => false,
             })

@@ -11,6 +11,7 @@ pub(super) fn lookup(row: &Builtin) -> Option<GroundFn> {
     }
     match row.name {
         "near" | "far" => Some(near_far),
+        "near_each" => Some(near_each),
         "closer" => Some(closer),
         "circle" | "follow_wall" | "patrol" => Some(path_shape),
         "through" => Some(through),
@@ -26,6 +27,10 @@ fn near_far(_: &mut Grounder, c: Call) -> Value {
     } else {
         Pref::Far(xs)
     })
+}
+
+fn near_each(_: &mut Grounder, c: Call) -> Value {
+    Value::Pref(Pref::NearEach(c.places(0)))
 }
 
 fn closer(_: &mut Grounder, c: Call) -> Value {
@@ -49,6 +54,7 @@ fn path_shape(g: &mut Grounder, c: Call) -> Value {
                 direction: dir,
                 until: place(2),
                 passing: place(3),
+                avoiding: place(4),
             };
             Value::Pref(if name == "patrol" {
                 Pref::Patrol(w)

@@ -39,7 +39,7 @@ fn by_distance(g: &mut Grounder, c: Call) -> Value {
     };
     let kth = name.starts_with("kth");
     let off = usize::from(kth);
-    let Some(Value::Place(to)) = c.arg(off) else {
+    let Some(to) = targets(c.arg(off)) else {
         return g.unsupported(c.e);
     };
     let travel = c.travel(off + 1);
@@ -106,14 +106,24 @@ fn sorted_by(g: &mut Grounder, c: Call) -> Value {
     }
 }
 
+/// The `to:` of a ranking: one place, or a non-empty set meaning its nearest member ("the chair
+/// nearest to any of the dressers").
+fn targets(v: Option<Value>) -> Option<Vec<PlaceVal>> {
+    match v? {
+        Value::Place(p) => Some(vec![p]),
+        Value::Set(s) if !s.is_empty() => Some(s),
+        _ => None,
+    }
+}
+
 fn ordered_by_distance(g: &mut Grounder, c: Call) -> Value {
-    let (Some(s), Some(Value::Place(to))) = (set(&c), c.arg(0)) else {
+    let (Some(s), Some(to)) = (set(&c), targets(c.arg(0))) else {
         return g.unsupported(c.e);
     };
     let travel = c.travel(1);
     let mut keyed: Vec<(f64, PlaceVal)> = s
         .into_iter()
-        .map(|p| (g.distance(&p, &to, travel).unwrap_or(f64::INFINITY), p))
+        .map(|p| (g.distance_to_any(&p, &to, travel), p))
         .collect();
     let far = c.name() == "farthest_first";
     // Unreachable elements go last in both orders, as in the rankings.
@@ -196,11 +206,19 @@ impl Grounder<'_, '_> {
         }
     }
 
+    /// The distance from `p` to the nearest of `to` (infinite when none is reachable). One travel
+    /// field per member of `to`, each cached: the cost grows with the set, never beyond it.
+    fn distance_to_any(&mut self, p: &PlaceVal, to: &[PlaceVal], travel: bool) -> f64 {
+        to.iter()
+            .filter_map(|t| self.distance(p, t, travel))
+            .fold(f64::INFINITY, f64::min)
+    }
+
     fn rank_by_distance(
         &mut self,
         c: &Call,
         s: Vec<PlaceVal>,
-        to: &PlaceVal,
+        to: &[PlaceVal],
         travel: bool,
         k: i64,
     ) -> Value {
@@ -209,7 +227,7 @@ impl Grounder<'_, '_> {
         }
         let mut keyed: Vec<(f64, PlaceVal)> = s
             .into_iter()
-            .map(|p| (self.distance(&p, to, travel).unwrap_or(f64::INFINITY), p))
+            .map(|p| (self.distance_to_any(&p, to, travel), p))
             .collect();
         let far = c.name().contains("farthest");
         // Unreachable candidates rank last either way.
@@ -232,7 +250,11 @@ impl Grounder<'_, '_> {
         }
         let (d, p) = keyed.swap_remove(k as usize - 1);
         if !d.is_finite() {
-            let l = to.label(self.q);
+            let l = to
+                .iter()
+                .map(|t| t.label(self.q))
+                .collect::<Vec<_>>()
+                .join(" or ");
             return self.report(Problem::error(
                 codes::UNREACHABLE,
                 c.e.span,

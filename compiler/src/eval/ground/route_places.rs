@@ -218,7 +218,7 @@ impl Grounder<'_, '_> {
             None => {
                 let why = match name {
                     "doorway_leaving" => format!("the route never leaves {rl}"),
-                    _ if path.is_empty() => format!("{rl} cannot be reached"),
+                    _ if path.is_empty() => self.no_path_into(&rl),
                     _ => format!(
                         "the route never enters {rl} from another room (it starts there, or the room has no doorway)"
                     ),
@@ -239,6 +239,22 @@ impl Grounder<'_, '_> {
                     )),
                 )
             }
+        }
+    }
+
+    /// Why no path into a room could be read off: the stage start is named, since that (not the
+    /// room) is usually what cannot be left.
+    fn no_path_into(&self, room: &str) -> String {
+        if self.route.is_some() {
+            return format!("the planned route is empty, so it never reaches {room}");
+        }
+        let from = self.here.label(self.q);
+        if self.q.band(self.here.target(self.q)).is_empty() {
+            format!(
+                "this stage starts at {from}, which has no free cell in or near it, so no path into {room} can be read off"
+            )
+        } else {
+            format!("no free path leads from this stage's start ({from}) into {room}")
         }
     }
 
