@@ -162,8 +162,83 @@ fn limp_gold_reaches_the_annotated_destinations() {
             );
         }
     }
-    assert!(
-        checked >= 1,
-        "at least one episode grounded to its annotations"
-    );
+    assert!(checked >= 1, "at least one episode planned by the AP-MDP");
+}
+
+/// Lang2LTL's gold: the gold formula sequences the annotated destinations, so wherever the AP-MDP
+/// accepts it, the route visits the label cells (1 m around the centre) of the AP each
+/// destination's expression was grounded to, in the annotated order.
+#[test]
+fn lang2ltl_gold_visits_the_annotated_destinations_in_order() {
+    use m2rc_baselines::common::inventory::Inventory;
+    use m2rc_baselines::common::labels::{OBJECT_LABEL_RADIUS_CELLS, label_cells};
+    use m2rc_stdlib::grid::Cell;
+    let tmp = tempfile::tempdir().unwrap();
+    let suite = tmp.path().join("suite");
+    let m = build(&suite, 4);
+    let out = tmp.path().join("lang2ltl");
+    runner::run(
+        m2rc_baselines::lang2ltl::make(gold()).as_ref(),
+        &opts(&suite, &out),
+    )
+    .unwrap();
+    let mut checked = 0;
+    for r in read_records(&out).unwrap() {
+        let entry = m
+            .episodes
+            .iter()
+            .find(|e| e.map_id == r["map_dir"] && e.instruction_id == r["instruction_id"])
+            .unwrap();
+        let ep: Value =
+            serde_json::from_slice(&std::fs::read(suite.join(&entry.file)).unwrap()).unwrap();
+        let dests: Vec<(String, u64)> = ep["hard_constraints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|h| h["kind"] == "must_pass" && h["object_id"].is_u64())
+            .map(|h| {
+                (
+                    h["label"].as_str().unwrap().to_string(),
+                    h["object_id"].as_u64().unwrap(),
+                )
+            })
+            .collect();
+        let grounded = |e: &str| {
+            r["lang2ltl"]["groundings"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|g| g["expression"].as_str().unwrap().eq_ignore_ascii_case(e))
+                .map(|g| g["ap"].as_str().unwrap().to_string())
+        };
+        if dests.is_empty() || r["lang2ltl"]["planner"]["mode"] != "ap-mdp" {
+            continue;
+        }
+        checked += 1;
+        let path = m.map_path(&suite, &entry.map_id).unwrap();
+        let map = m2rc_stdlib::map::read_map_json(&std::fs::read(&path).unwrap(), "map").unwrap();
+        let route: Vec<Cell> = r["trajectory"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| Cell::new(c[0].as_u64().unwrap() as u32, c[1].as_u64().unwrap() as u32))
+            .collect();
+        let inventory = Inventory::from_map(&map);
+        let mut from = 0;
+        for (e, _) in &dests {
+            let ap = inventory.get(&grounded(e).unwrap()).unwrap();
+            let cells = label_cells(&map, ap, OBJECT_LABEL_RADIUS_CELLS);
+            let at = route[from..]
+                .iter()
+                .position(|p| cells.contains(p))
+                .unwrap_or_else(|| {
+                    panic!(
+                        "{}: `{e}` not visited after step {from}",
+                        r["instruction_id"]
+                    )
+                });
+            from += at;
+        }
+    }
+    assert!(checked >= 1, "at least one episode planned by the AP-MDP");
 }
