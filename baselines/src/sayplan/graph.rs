@@ -239,25 +239,42 @@ fn round1(x: f64) -> f64 {
     (x * 10.0).round() / 10.0
 }
 
-/// The free cells 8-adjacent to a footprint and outside it, nearest the centre (L1) first, then
-/// row-major.
+/// How far (Chebyshev rings, cells) approach cells are looked for around a footprint: 1 m.
+pub const APPROACH_RINGS: usize = 20;
+
+/// The free cells nearest a footprint: its free 8-neighbours, as in the reference; when it has
+/// none, the free cells of the first ring around it that has any, up to [`APPROACH_RINGS`].
+/// Adaptation: m2rc's occupancy keeps a margin around furniture and walls, so the cells touching
+/// an object are almost never free (the reference's rule would leave nearly every object of the
+/// default suite unreachable). Sorted nearest the centre (L1) first, then row-major.
 pub fn approach_cells(map: &SemanticMap, footprint: &[Cell], center: [f64; 2]) -> Vec<Cell> {
-    let inside: BTreeSet<Cell> = footprint.iter().copied().collect();
+    let mut seen: BTreeSet<Cell> = footprint.iter().copied().collect();
     let n = map.n() as i64;
+    let mut ring: Vec<Cell> = footprint.to_vec();
     let mut out = BTreeSet::new();
-    for c in footprint {
-        for dr in -1i64..=1 {
-            for dc in -1i64..=1 {
-                let (y, x) = (c.row as i64 + dr, c.col as i64 + dc);
-                if y < 0 || x < 0 || y >= n || x >= n {
-                    continue;
-                }
-                let q = Cell::new(y as u32, x as u32);
-                if !inside.contains(&q) && map.is_free(q) {
-                    out.insert(q);
+    for _ in 0..APPROACH_RINGS {
+        let mut next = Vec::new();
+        for c in &ring {
+            for dr in -1i64..=1 {
+                for dc in -1i64..=1 {
+                    let (y, x) = (c.row as i64 + dr, c.col as i64 + dc);
+                    if y < 0 || x < 0 || y >= n || x >= n {
+                        continue;
+                    }
+                    let q = Cell::new(y as u32, x as u32);
+                    if seen.insert(q) {
+                        next.push(q);
+                        if map.is_free(q) {
+                            out.insert(q);
+                        }
+                    }
                 }
             }
         }
+        if !out.is_empty() || next.is_empty() {
+            break;
+        }
+        ring = next;
     }
     let mut v: Vec<Cell> = out.into_iter().collect();
     let l1 = |c: &Cell| (c.row as f64 - center[0]).abs() + (c.col as f64 - center[1]).abs();

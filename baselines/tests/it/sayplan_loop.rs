@@ -73,10 +73,17 @@ fn scene_graph_of_the_fixture_matches_the_hand_count() {
             cell(4, 8)
         ]
     );
-    // The book lies on the bed: every cell around it is bed.
+    // The book (3, 3..=4) lies on the bed (2..=4 x 2..=5): its first ring is bed, so it is
+    // approached from the second ring, the free cells around the bed.
     let book = &g.nodes[g.index("object_3").unwrap()];
+    let NodeKind::Object { approach_cells, .. } = &book.kind else {
+        panic!()
+    };
+    assert_eq!(approach_cells.first(), Some(&cell(1, 3)));
     assert!(
-        matches!(&book.kind, NodeKind::Object { approach_cells, .. } if approach_cells.is_empty())
+        approach_cells
+            .iter()
+            .all(|c| c.row == 1 || c.row == 5 || c.col == 1 || c.col == 6)
     );
 }
 
@@ -203,8 +210,8 @@ fn gold_script_expands_the_target_rooms_and_plans_the_targets() {
         order: None,
         scope: None,
     };
-    // The book (3) cannot be approached: its room instead.
-    let targets = [place(2, 1), place(3, 1), place(8, 2)];
+    // An object the map does not have is left to its annotated room.
+    let targets = [place(2, 1), place(99, 1), place(8, 2)];
     let script = sayplan::gold_script(&g, &targets);
     assert_eq!(script.expand, ["room_1", "room_2"]);
     assert_eq!(script.targets, ["object_2", "room_1", "object_8"]);
