@@ -17,8 +17,9 @@ pub const API_KEY_ENV: &str = "M2R_LLM_API_KEY";
 
 #[derive(Args, Clone, Debug)]
 pub struct LlmArgs {
-    /// Which model answers: `http` (an OpenAI-compatible server) or
-    /// `simulated[:fault_rate[:seed]]` (the gold program with injected faults; benchmark only).
+    /// Which model answers: `http` (an OpenAI-compatible server),
+    /// `simulated[:fault_rate[:seed]]` (the gold program with injected faults; benchmark only) or
+    /// `gold` (a baseline's calls answered from the episode's gold annotations; baselines only).
     #[arg(long = "llm", default_value = "http")]
     pub backend: Backend,
     /// Server base URL, e.g. http://127.0.0.1:8080/v1 (llama.cpp), http://127.0.0.1:8000/v1
@@ -182,7 +183,7 @@ impl LlmArgs {
                 HttpClient::new(cfg).map(Some)
             }
             Backend::Http => HttpClient::new(self.config()?).map(Some),
-            Backend::Simulated(_) => Ok(None),
+            Backend::Simulated(_) | Backend::Gold => Ok(None),
         }
     }
 

@@ -67,10 +67,15 @@ impl BatchOut {
 
     /// Adds a request under its exported `custom_id` (see [`export_id`]).
     pub fn add(&self, custom_id: &str, body: &Value) -> std::io::Result<()> {
+        self.add_to(custom_id, "/v1/chat/completions", body)
+    }
+
+    /// Adds a request to another endpoint of the Batch API (`/v1/embeddings`).
+    pub fn add_to(&self, custom_id: &str, url: &str, body: &Value) -> std::io::Result<()> {
         let line = json!({
             "custom_id": custom_id,
             "method": "POST",
-            "url": "/v1/chat/completions",
+            "url": url,
             "body": body,
         });
         let mut lines = self.lines.lock().unwrap_or_else(|p| p.into_inner());
@@ -278,6 +283,17 @@ fn check_line(
             status.map_or("none".to_string(), |s| s.to_string())
         ));
         return None;
+    }
+    // An embeddings reply (`data`, no `choices`) is checked as one; anything else as a chat
+    // completion.
+    if body.get("data").is_some() && body.get("choices").is_none() {
+        if let Err(e) = crate::wire::parse_embeddings(body) {
+            out.failed.push(format!(
+                "{at}: `{id}`: the body is not a list of embeddings: {e}"
+            ));
+            return None;
+        }
+        return Some((id.to_string(), key, model));
     }
     let reply = match parse_completion(body, 0.0) {
         Ok(r) => r,

@@ -112,10 +112,17 @@ impl HttpClient {
         Duration::from_secs_f64((base * jitter).min(self.cfg.backoff_max.as_secs_f64()))
     }
 
-    fn try_once(&self, body: &[u8]) -> Result<Value, TryError> {
+    /// One POST of `body` to `url`; `check` says whether a 200 body is the kind of answer asked
+    /// for (a chat completion, a list of embeddings), and a body that is not is retried.
+    fn try_once(
+        &self,
+        url: &str,
+        body: &[u8],
+        check: fn(&Value) -> Result<(), String>,
+    ) -> Result<Value, TryError> {
         let mut req = self
             .http
-            .post(self.cfg.endpoint())
+            .post(url)
             .header(CONTENT_TYPE, "application/json")
             .body(body.to_vec());
         if let Some(k) = &self.cfg.api_key {
@@ -125,7 +132,7 @@ impl HttpClient {
             message: if e.is_timeout() {
                 format!("timed out after {:.1} s", self.cfg.timeout.as_secs_f64())
             } else if e.is_connect() {
-                format!("cannot connect to {}", self.cfg.endpoint())
+                format!("cannot connect to {url}")
             } else {
                 format!("request failed: {}", e.without_url())
             },
@@ -195,7 +202,7 @@ impl HttpClient {
             retry: true,
             retry_after: None,
         })?;
-        parse_completion(&value, 0.0).map_err(|e| TryError {
+        check(&value).map_err(|e| TryError {
             message: e,
             retry: true,
             retry_after: None,
@@ -259,6 +266,28 @@ impl Fetch for HttpClient {
     }
 
     fn fetch(&self, request: &ChatRequest, body: &Value) -> Result<Fetched, ChatError> {
+        self.post(&request.custom_id, &self.cfg.endpoint(), body, |v| {
+            parse_completion(v, 0.0).map(|_| ())
+        })
+    }
+}
+
+impl HttpClient {
+    /// Sends an embeddings request (`POST {base}/embeddings`) with the same retries, timeouts,
+    /// concurrency gate and key handling as a chat request.
+    pub fn fetch_embeddings(&self, custom_id: &str, body: &Value) -> Result<Fetched, ChatError> {
+        self.post(custom_id, &self.cfg.embeddings_endpoint(), body, |v| {
+            crate::wire::parse_embeddings(v).map(|_| ())
+        })
+    }
+
+    fn post(
+        &self,
+        custom_id: &str,
+        url: &str,
+        body: &Value,
+        check: fn(&Value) -> Result<(), String>,
+    ) -> Result<Fetched, ChatError> {
         let bytes = serde_json::to_vec(body).unwrap_or_default();
         let attempts = self.cfg.max_attempts.max(1);
         let mut last = String::new();
@@ -268,7 +297,7 @@ impl Fetch for HttpClient {
             let started = Instant::now();
             let result = {
                 let _slot = self.gate.enter();
-                self.try_once(&bytes)
+                self.try_once(url, &bytes, check)
             };
             match result {
                 Ok(response) => {
@@ -291,8 +320,7 @@ impl Fetch for HttpClient {
             }
         }
         Err(ChatError::Failed(self.redact(format!(
-            "{}: the model request failed after {tries} attempt(s): {last}",
-            request.custom_id
+            "{custom_id}: the model request failed after {tries} attempt(s): {last}"
         ))))
     }
 }

@@ -100,6 +100,9 @@ pub enum Backend {
     /// An OpenAI-compatible server.
     Http,
     Simulated(SimulatedSpec),
+    /// Every call answered by the method's own oracle built from the episode's gold annotations
+    /// (the baselines' `--llm gold`); never a language model, and labelled `[GOLD replies]`.
+    Gold,
 }
 
 impl std::str::FromStr for Backend {
@@ -108,10 +111,13 @@ impl std::str::FromStr for Backend {
         if s == "http" || s == "openai" {
             return Ok(Backend::Http);
         }
+        if s == "gold" {
+            return Ok(Backend::Gold);
+        }
         let mut parts = s.split(':');
         if parts.next() != Some("simulated") {
             return Err(format!(
-                "--llm `{s}` is not `http` or `simulated[:fault_rate[:seed]]`"
+                "--llm `{s}` is not `http`, `gold` or `simulated[:fault_rate[:seed]]`"
             ));
         }
         let mut spec = SimulatedSpec::default();
@@ -190,6 +196,17 @@ impl LlmConfig {
             format!("{b}/chat/completions")
         }
     }
+
+    /// `{base_url}/embeddings` (a base URL given as the chat endpoint is cut back to its base).
+    pub fn embeddings_endpoint(&self) -> String {
+        let b = self.base_url.trim_end_matches('/');
+        let b = b.strip_suffix("/chat/completions").unwrap_or(b);
+        if b.ends_with("/embeddings") {
+            b.to_string()
+        } else {
+            format!("{b}/embeddings")
+        }
+    }
 }
 
 #[cfg(test)]
@@ -208,6 +225,7 @@ mod tests {
         );
         assert!("simulated:2".parse::<Backend>().is_err());
         assert!("gpt".parse::<Backend>().is_err());
+        assert_eq!("gold".parse::<Backend>(), Ok(Backend::Gold));
     }
 
     #[test]
@@ -247,7 +265,9 @@ mod tests {
             ..LlmConfig::default()
         };
         assert_eq!(c.endpoint(), "http://h:1/v1/chat/completions");
+        assert_eq!(c.embeddings_endpoint(), "http://h:1/v1/embeddings");
         c.base_url = "http://h:1/v1/chat/completions".into();
         assert_eq!(c.endpoint(), "http://h:1/v1/chat/completions");
+        assert_eq!(c.embeddings_endpoint(), "http://h:1/v1/embeddings");
     }
 }

@@ -70,7 +70,7 @@ impl Store {
         self.stats.lock().map(|s| s.clone()).unwrap_or_default()
     }
 
-    fn count(&self, f: impl FnOnce(&mut ExchangeStats)) {
+    pub(crate) fn count(&self, f: impl FnOnce(&mut ExchangeStats)) {
         if let Ok(mut s) = self.stats.lock() {
             f(&mut s);
         }

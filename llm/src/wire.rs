@@ -23,6 +23,52 @@ pub fn request_body(
     body
 }
 
+/// The request body of `POST {base}/embeddings` for `inputs`, in order.
+pub fn embeddings_body(model: &str, inputs: &[String]) -> Value {
+    json!({"model": model, "input": inputs})
+}
+
+/// Reads an embeddings response body: one vector per input, ordered by each item's `index` (a
+/// server may return them in any order), and the prompt tokens it reports (0 when none).
+pub fn parse_embeddings(body: &Value) -> Result<(Vec<Vec<f32>>, Option<u64>), String> {
+    let obj = body
+        .as_object()
+        .ok_or_else(|| "the response is not a JSON object".to_string())?;
+    if let Some(err) = obj.get("error").filter(|e| !e.is_null()) {
+        return Err(format!("the server answered with an error: {err}"));
+    }
+    let data = obj
+        .get("data")
+        .and_then(Value::as_array)
+        .ok_or_else(|| "the response has no `data` array of embeddings".to_string())?;
+    let mut items: Vec<(u64, Vec<f32>)> = Vec::with_capacity(data.len());
+    for (i, item) in data.iter().enumerate() {
+        let index = item
+            .get("index")
+            .and_then(Value::as_u64)
+            .unwrap_or(i as u64);
+        let vector = item
+            .get("embedding")
+            .and_then(Value::as_array)
+            .ok_or_else(|| format!("`data[{i}]` has no `embedding` list"))?
+            .iter()
+            .map(|x| x.as_f64().filter(|f| f.is_finite()).map(|f| f as f32))
+            .collect::<Option<Vec<f32>>>()
+            .ok_or_else(|| {
+                format!("`data[{i}].embedding` holds a value that is not a finite number")
+            })?;
+        items.push((index, vector));
+    }
+    items.sort_by_key(|(i, _)| *i);
+    if items.iter().enumerate().any(|(k, (i, _))| *i != k as u64) {
+        return Err("the embeddings' `index` values are not 0, 1, 2, ...".into());
+    }
+    let tokens = obj
+        .get("usage")
+        .map_or(Some(0), |u| token_count(u.get("prompt_tokens")));
+    Ok((items.into_iter().map(|(_, v)| v).collect(), tokens))
+}
+
 /// Reads a chat-completion response body. An error names what is missing or malformed.
 pub fn parse_completion(body: &Value, latency_ms: f64) -> Result<ChatReply, String> {
     let obj = body

@@ -54,6 +54,10 @@ pub struct Grounding2RouteConfig {
     pub budget: EpisodeBudget,
 }
 
+/// Why `--llm gold` is refused here: this method's gold is the simulated model at fault rate 0.
+const GOLD_REFUSED: &str = "--llm gold is for the baselines; grounding2route's gold replies are \
+     `--llm simulated:0` (the gold program, no faults)";
+
 fn sequential() -> PlannerKind {
     PlannerKind::Sequential
 }
@@ -67,6 +71,7 @@ impl Grounding2RouteConfig {
     pub fn label(&self) -> String {
         match &self.backend {
             Backend::Simulated(s) => s.label(),
+            Backend::Gold => "[GOLD replies]".into(),
             Backend::Http => format!(
                 "{} at {}",
                 self.model,
@@ -168,6 +173,7 @@ impl Method for Grounding2Route {
             }
             (Backend::Http, Some(h)) => h,
             (Backend::Http, None) => return Err(MethodError("no LLM client configured".into())),
+            (Backend::Gold, _) => return Err(MethodError(GOLD_REFUSED.into())),
         };
         let model = Exchange {
             store: &self.store,
@@ -254,22 +260,25 @@ impl Grounding2Route {
         lower: &m2rc_llm::LowerArgs,
         default_cache: &std::path::Path,
     ) -> Result<(Grounding2Route, Option<String>), String> {
+        if llm.backend == Backend::Gold {
+            return Err(GOLD_REFUSED.into());
+        }
         let http = llm.http_client()?;
         let (store, note) = llm.store(default_cache)?;
         let config = Grounding2RouteConfig {
             backend: llm.backend.clone(),
             model: match &llm.backend {
                 Backend::Simulated(s) => s.model_name(),
-                Backend::Http => llm.llm_model.clone(),
+                Backend::Http | Backend::Gold => llm.llm_model.clone(),
             },
             base_url: match &llm.backend {
                 Backend::Http => llm.llm_base_url.clone(),
-                Backend::Simulated(_) => None,
+                Backend::Simulated(_) | Backend::Gold => None,
             },
             temperature: llm.llm_temperature,
             max_tokens: match &llm.backend {
                 Backend::Http => Some(llm.llm_max_tokens),
-                Backend::Simulated(_) => None,
+                Backend::Simulated(_) | Backend::Gold => None,
             },
             repair: lower.repair_options(),
             prompt: lower.prompt_options(),

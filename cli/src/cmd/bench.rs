@@ -35,7 +35,8 @@ pub struct RunArgs {
     /// Suite directory (holds suite.json).
     #[arg(long)]
     pub suite: PathBuf,
-    /// oracle, shortest, hard-only, or grounding2route (an LLM; see the model flags below).
+    /// oracle, shortest, hard-only, grounding2route (an LLM; see the model flags below), or a
+    /// baseline of Table I (lang2ltl, ...; `--llm gold` answers its calls from the annotations).
     #[arg(long)]
     pub method: String,
     /// Run directory; records go to <out>/<map_id>/instruction_<id>.json.
@@ -63,6 +64,8 @@ pub struct RunArgs {
     pub llm: m2rc_llm::LlmArgs,
     #[command(flatten)]
     pub lower: m2rc_llm::LowerArgs,
+    #[command(flatten)]
+    pub baseline: m2rc_baselines::BaselineArgs,
 }
 
 #[derive(Args)]
@@ -139,7 +142,19 @@ pub(crate) fn show_progress() -> bool {
 fn run_method(a: RunArgs) -> Result<ExitCode> {
     crate::outputs::refuse_run_into_suite(&a.out, &a.suite)?;
     let mut model_method = None;
-    let method: Box<dyn m2rc_benchmark::methods::Method> = if a.method == "grounding2route" {
+    let mut baseline_setup = None;
+    let method: Box<dyn m2rc_benchmark::methods::Method> = if m2rc_baselines::is_baseline(&a.method)
+    {
+        let built = m2rc_baselines::build(&a.method, &a.llm, &a.baseline, &a.out.join("llm-cache"))
+            .map_err(|e| unusable(anyhow::Error::msg(e)))?
+            .context("baseline registry")?;
+        if let Some(n) = &built.note {
+            eprintln!("{n}");
+        }
+        eprintln!("note: {}: {}", a.method, built.setup.label());
+        baseline_setup = Some(built.setup);
+        built.method
+    } else if a.method == "grounding2route" {
         let (m, note) = Grounding2Route::from_args(&a.llm, &a.lower, &a.out.join("llm-cache"))
             .map_err(|e| unusable(anyhow::Error::msg(e)))?;
         if let Some(n) = note {
@@ -156,10 +171,11 @@ fn run_method(a: RunArgs) -> Result<ExitCode> {
             Some(m) => m,
             None => {
                 return Err(unusable(anyhow::anyhow!(
-                    "--method: unknown method `{}` (known: {}, {})",
+                    "--method: unknown method `{}` (known: {}, {}, {})",
                     a.method,
                     METHOD_NAMES.join(", "),
-                    MODEL_METHOD_NAMES.join(", ")
+                    MODEL_METHOD_NAMES.join(", "),
+                    m2rc_baselines::baseline_names().join(", ")
                 )));
             }
         }
@@ -186,6 +202,16 @@ fn run_method(a: RunArgs) -> Result<ExitCode> {
     }
     for r in &summary.recomputed {
         eprintln!("warning: recomputed {r}");
+    }
+    if let Some(setup) = &baseline_setup {
+        report_store(
+            &setup.store,
+            if setup.is_gold() {
+                " [GOLD replies]"
+            } else {
+                ""
+            },
+        )?;
     }
     if let Some(m) = &model_method {
         if let Some(b) = &m.store.batch {
@@ -244,6 +270,26 @@ fn run_method(a: RunArgs) -> Result<ExitCode> {
         crate::io::stdout(&report::markdown_report_with(&runs, &prices))?;
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The end-of-run lines about a model's requests: the batch file written, warnings, counts.
+fn report_store(store: &m2rc_llm::Store, label: &str) -> Result<()> {
+    if let Some(b) = &store.batch {
+        let n = b.finish()?;
+        eprintln!(
+            "wrote {n} batch request(s) to {}; answer them, then run again with --llm-batch-in <output file>",
+            b.path().display()
+        );
+    }
+    for w in store.warnings() {
+        eprintln!("warning: {w}");
+    }
+    let s = store.stats();
+    eprintln!(
+        "model requests: {} answered from the cache, {} fetched, {} pending, {} failed{label}",
+        s.cache_hits, s.fetched, s.pending, s.failed
+    );
+    Ok(())
 }
 
 /// `--threads` capped to the cores the machine has (a huge value would start that many OS

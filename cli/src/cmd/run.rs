@@ -52,6 +52,11 @@ pub enum RunEmit {
 
 pub fn run(args: RunArgs) -> Result<ExitCode> {
     crate::cmd::prompt::check_instruction(&args.instruction)?;
+    if args.llm.backend == Backend::Gold {
+        return Err(unusable(anyhow::anyhow!(
+            "--llm gold answers a baseline's calls from an episode's gold annotations, so `m2rc              run` (which has no episode) does not take it; use `m2rc bench run --method <baseline>              --llm gold` on a suite"
+        )));
+    }
     if let Backend::Simulated(_) = args.llm.backend {
         return Err(unusable(anyhow::anyhow!(
             "--llm simulated answers from an episode's gold program, so `m2rc run` (which has no \
