@@ -30,6 +30,7 @@
 
 pub mod calls;
 pub mod common;
+pub mod grounding;
 pub mod lang2ltl;
 pub mod limp;
 pub mod registry;

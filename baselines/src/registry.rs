@@ -26,6 +26,10 @@ pub const BASELINES: &[Baseline] = &[
         name: crate::limp::NAME,
         make: crate::limp::make,
     },
+    Baseline {
+        name: crate::grounding::schema::NAME,
+        make: crate::grounding::schema::make,
+    },
 ];
 
 /// The names of [`BASELINES`].
@@ -134,7 +138,11 @@ pub fn build(
     let Some(b) = BASELINES.iter().find(|b| b.name == name) else {
         return Ok(None);
     };
-    let (setup, note) = model_setup(llm, args, default_cache)?;
+    let (setup, note) = if crate::grounding::is_variant(name) {
+        crate::grounding::variant_setup(llm, args, default_cache)?
+    } else {
+        model_setup(llm, args, default_cache)?
+    };
     let setup = Arc::new(setup);
     Ok(Some(Built {
         method: (b.make)(setup.clone()),

@@ -3,6 +3,7 @@
 
 mod calls;
 mod gold;
+mod grounding;
 mod methods;
 mod planners;
 mod support;
