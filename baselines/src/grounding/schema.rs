@@ -89,6 +89,8 @@ impl Method for Schema {
             "method": NAME,
             "m2rc": env!("CARGO_PKG_VERSION"),
             "model": self.setup.config(),
+            // Where the report looks for the simulated model, as in `grounding2route`'s.
+            "backend": self.setup.backend,
             "repair_rounds": self.repair.rounds,
             "examples": EXAMPLES,
         })

@@ -12,7 +12,7 @@ use m2rc_benchmark::methods::{Method, grounding2route::Grounding2Route, method_b
 use m2rc_llm::Backend;
 use std::sync::Arc;
 
-pub const DESCRIPTION: &str = "the same compiler, RouteIR and planner, grounded from four \
+pub const DESCRIPTION: &str = "the same compiler, RouteIR and planner, grounded from different \
 representations: CaG (the model writes `.m2r`), Schema (a JSON intent graph over operators \
 generated from the built-in table, compiled to `.m2r`); `-r0` rows are one-shot (the reference's \
 code), `-rR` rows repair up to R rounds (the reference's table). With `--llm gold` each row is its \

@@ -132,25 +132,29 @@ fn patch_for(compiled: &Compiled, s: &crate::diagnostic::Suggestion) -> Option<V
     if s.span.end > src.len() || s.span.start > s.span.end {
         return None;
     }
-    let (pointer, node) = compiled
+    let mut around: Vec<&(m2rc_grammar::ast::Span, String)> = compiled
         .map
         .iter()
         .filter(|(n, p)| n.start <= s.span.start && s.span.end <= n.end && is_expr_pointer(p))
-        .min_by_key(|(n, _)| (n.end - n.start, std::cmp::Reverse(n.start)))
-        .map(|(n, p)| (p.as_str(), *n))?;
-    let text = src.get(node.start..node.end)?;
-    let new = format!(
-        "{}{}{}",
-        src.get(node.start..s.span.start)?,
-        s.replacement,
-        src.get(s.span.end..node.end)?
-    );
-    if new == text {
-        return None;
-    }
-    let expr = parse_expr(&new).ok()?;
-    let value = expr_to_graph(&expr).ok()?;
-    Some(json!({"op": "replace", "path": pointer, "value": value}))
+        .collect();
+    around.sort_by_key(|(n, _)| (n.end - n.start, std::cmp::Reverse(n.start)));
+    // The smallest node whose edited text is still an expression (deleting an argument leaves
+    // nothing of the argument, but a whole call).
+    around.into_iter().find_map(|(node, pointer)| {
+        let text = src.get(node.start..node.end)?;
+        let new = format!(
+            "{}{}{}",
+            src.get(node.start..s.span.start)?,
+            s.replacement,
+            src.get(s.span.end..node.end)?
+        );
+        if new == text {
+            return None;
+        }
+        let expr = parse_expr(&new).ok()?;
+        let value = expr_to_graph(&expr).ok()?;
+        Some(json!({"op": "replace", "path": pointer, "value": value}))
+    })
 }
 
 /// Whether a pointer names an expression (not a statement such as a segment or a constraint).

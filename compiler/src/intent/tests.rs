@@ -200,3 +200,17 @@ fn deep_graphs_are_refused_not_recursed() {
             .any(|d| d.diagnostic.message.contains("nests deeper"))
     );
 }
+
+#[test]
+fn a_deleted_argument_is_patched_on_the_whole_call() {
+    let g = json!({"segments": [{"to": {"op": "only", "of": {"op": "objects", "args": ["bed"]}, "args": [1]}}]});
+    let compiled = graph_to_program(&g).unwrap();
+    let vocab = m2rc_stdlib::vocab::Vocabulary::benchmark();
+    let checked = crate::check(&compiled.program, &vocab);
+    let fb = graph_feedback(&compiled, &checked.diagnostics);
+    let fixed = apply_fixes(&g.to_string(), &fb).expect("a fix applies");
+    assert_eq!(
+        reply_json(&fixed).unwrap(),
+        json!({"segments": [{"to": {"op": "only", "of": {"op": "objects", "args": ["bed"]}}}]})
+    );
+}
