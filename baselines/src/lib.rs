@@ -30,6 +30,7 @@
 
 pub mod calls;
 pub mod common;
+pub mod grounding;
 pub mod iln;
 pub mod lang2ltl;
 pub mod lang2ltl2;

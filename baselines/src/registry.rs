@@ -33,13 +33,24 @@ pub const BASELINES: &[Baseline] = &[
     Baseline::new(crate::iln::method::NAME, crate::iln::method::make),
 ];
 
+/// The ablation table's grounding variants (issue 31): built like baselines, but not rows of
+/// Table I, so `bench table1` does not run them.
+pub const GROUNDING_VARIANTS: &[Baseline] = &[Baseline::new(
+    crate::grounding::schema::NAME,
+    crate::grounding::schema::make,
+)];
+
+fn every_method() -> impl Iterator<Item = &'static Baseline> {
+    BASELINES.iter().chain(GROUNDING_VARIANTS)
+}
+
 /// The names of [`BASELINES`].
 pub fn baseline_names() -> Vec<&'static str> {
     BASELINES.iter().map(|b| b.name).collect()
 }
 
 pub fn is_baseline(name: &str) -> bool {
-    BASELINES.iter().any(|b| b.name == name)
+    every_method().any(|b| b.name == name)
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -136,10 +147,14 @@ pub fn build(
     args: &BaselineArgs,
     default_cache: &Path,
 ) -> Result<Option<Built>, String> {
-    let Some(b) = BASELINES.iter().find(|b| b.name == name) else {
+    let Some(b) = every_method().find(|b| b.name == name) else {
         return Ok(None);
     };
-    let (setup, note) = model_setup(llm, args, default_cache)?;
+    let (setup, note) = if crate::grounding::is_variant(name) {
+        crate::grounding::variant_setup(llm, args, default_cache)?
+    } else {
+        model_setup(llm, args, default_cache)?
+    };
     let setup = Arc::new(setup);
     Ok(Some(Built {
         method: (b.make)(setup.clone()),

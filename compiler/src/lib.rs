@@ -5,6 +5,7 @@ pub mod check;
 pub mod diagnostic;
 pub mod eval;
 mod hints;
+pub mod intent;
 pub mod ir;
 pub mod lower;
 mod ranges;

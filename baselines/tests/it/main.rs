@@ -6,6 +6,7 @@ mod gold;
 mod graphs_mock;
 mod iln_graph;
 mod ltlcodegen;
+mod grounding;
 mod methods;
 mod osgllm;
 mod planners;

@@ -228,9 +228,36 @@ pub fn run_ablation(ab: Ablation, opts: &AblateOptions) -> Result<AblationResult
     let variants = ab
         .variants(opts.model.as_ref())
         .map_err(RunError::Invalid)?;
-    let dir = opts.out.join(ab.name());
+    let (table, dir, markdown) = run_variants(ab.name(), ab.description(), &variants, opts)?;
+    Ok(AblationResult {
+        ablation: ab,
+        table,
+        dir,
+        markdown,
+    })
+}
+
+/// A method under another name (an ablation row), so that it has its own run directory and
+/// row; its configuration says which variant it is.
+pub fn named(name: impl Into<String>, inner: Box<dyn Method>) -> Box<dyn Method> {
+    Box::new(Variant {
+        name: name.into(),
+        inner,
+    })
+}
+
+/// Runs `variants` as the ablation `name` (`<out>/<name>/<variant>/`, resuming finished records)
+/// and writes its table; an ablation whose methods the benchmark crate cannot build (the
+/// grounding variants live above it) is run this way by the CLI.
+pub fn run_variants(
+    name: &str,
+    description: &str,
+    variants: &[Box<dyn Method>],
+    opts: &AblateOptions,
+) -> Result<(table::Table, PathBuf, String), RunError> {
+    let dir = opts.out.join(name);
     let mut runs: Vec<MethodRun> = Vec::new();
-    for v in &variants {
+    for v in variants {
         let vdir = dir.join(v.name());
         run(
             v.as_ref(),
@@ -252,16 +279,11 @@ pub fn run_ablation(ab: Ablation, opts: &AblateOptions) -> Result<AblationResult
         )?);
     }
     let t = table::table(&runs);
-    let markdown = section(ab, &t, opts);
+    let markdown = section(name, description, &t, opts);
     write(&dir.join("table.md"), &markdown)?;
     write(&dir.join("table.csv"), &table::csv(&t))?;
     write(&dir.join("table.json"), &(table::json(&t) + "\n"))?;
-    Ok(AblationResult {
-        ablation: ab,
-        table: t,
-        dir,
-        markdown,
-    })
+    Ok((t, dir, markdown))
 }
 
 fn write(path: &Path, text: &str) -> Result<(), RunError> {
@@ -271,8 +293,8 @@ fn write(path: &Path, text: &str) -> Result<(), RunError> {
     })
 }
 
-fn section(ab: Ablation, t: &table::Table, opts: &AblateOptions) -> String {
-    let mut out = format!("## Ablation `{}`\n\n{}.\n\n", ab.name(), ab.description());
+fn section(name: &str, description: &str, t: &table::Table, opts: &AblateOptions) -> String {
+    let mut out = format!("## Ablation `{name}`\n\n{description}.\n\n");
     out.push_str(&format!(
         "Suite `{}`, split `{}`{}.\n\n",
         opts.suite.display(),

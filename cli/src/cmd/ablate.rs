@@ -20,6 +20,9 @@ pub enum Which {
     OraclePlanner,
     /// Every ablation, one report (`<out>/ablations.md`).
     All,
+    /// The grounding representations (CaG, Schema) with one model and one reply cache, one-shot
+    /// and with `--repair-rounds` R (issue 31).
+    Grounding,
 }
 
 #[derive(Args)]
@@ -49,6 +52,10 @@ pub struct AblateArgs {
     /// `repair-rounds` runs R = 0 up to `--repair-rounds` (default 3).
     #[command(flatten)]
     pub lower: m2rc_llm::LowerArgs,
+    /// Embedding flags of the baselines (unused by the grounding variants; kept so the model
+    /// setup is the one `bench run` builds).
+    #[command(flatten)]
+    pub baseline: m2rc_baselines::BaselineArgs,
 }
 
 /// The model for `repair-rounds`, when one is configured: a server's base URL, or the simulated
@@ -83,15 +90,16 @@ fn model_spec(a: &AblateArgs) -> Option<ablate::ModelSpec> {
 pub fn run(a: AblateArgs) -> Result<ExitCode> {
     let model = model_spec(&a);
     let opts = AblateOptions {
-        suite: a.suite,
+        suite: a.suite.clone(),
         out: a.out.clone(),
         shard: a.shard,
-        split: a.split,
+        split: a.split.clone(),
         progress: super::bench::show_progress(),
         model,
     };
     let go = || -> Result<String> {
         Ok(match a.which {
+            Which::Grounding => super::ablate_grounding::run(&a, &opts)?,
             Which::All => {
                 ablate::run_all(&opts)?;
                 std::fs::read_to_string(opts.out.join("ablations.md"))?
@@ -101,7 +109,7 @@ pub fn run(a: AblateArgs) -> Result<ExitCode> {
                     Which::LtlVsRouteir => Ablation::LtlVsRouteir,
                     Which::RepairRounds => Ablation::RepairRounds,
                     Which::Scopes => Ablation::Scopes,
-                    Which::OraclePlanner | Which::All => Ablation::OraclePlanner,
+                    Which::OraclePlanner | Which::All | Which::Grounding => Ablation::OraclePlanner,
                 };
                 if let Err(why) = ab.variants(opts.model.as_ref()) {
                     bail!("{why}");

@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod ablate;
+pub mod ablate_grounding;
 pub mod baseline;
 pub mod bench;
 pub mod bench_import;

@@ -1,6 +1,7 @@
 //! `m2rc ablate` from the command line: `repair-rounds` with the labelled simulated model (one
 //! row per R, one shared reply cache), refused without a model; `ltl-vs-routeir` adds the model's
-//! rows planned both ways when a model is given; `oracle-planner` writes its table.
+//! rows planned both ways when a model is given; `oracle-planner` writes its table; `grounding`
+//! runs the CaG and Schema rows.
 
 use crate::common;
 use common::*;
@@ -91,4 +92,50 @@ fn repair_rounds_without_a_model_says_what_it_needs() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("needs a model"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
+}
+
+/// `ablate grounding`: CaG and Schema rows one-shot and with R, on one reply cache; with gold
+/// replies, each representation's ceiling, labelled.
+#[test]
+fn grounding_runs_cag_and_schema_rows_on_one_reply_cache() {
+    let tmp = tempfile::tempdir().unwrap();
+    let s = suite(3).to_str().unwrap();
+    let args = [
+        "ablate",
+        "grounding",
+        "--suite",
+        s,
+        "--out",
+        "g",
+        "--llm",
+        "simulated:0.5:1",
+        "--repair-rounds",
+        "2",
+    ];
+    let r = m2rc(&args, tmp.path()).expect(0);
+    for row in ["cag-r0", "cag-r2", "schema-r0", "schema-r2"] {
+        assert!(r.stdout.contains(row), "{row} missing:\n{}", r.stdout);
+    }
+    let dir = tmp.path().join("g/grounding");
+    assert!(dir.join("llm-cache").is_dir(), "one reply cache");
+    let schema = read_json(&dir.join("schema-r2/run.json"));
+    assert_eq!(schema["method_config"]["repair_rounds"], 2, "{schema}");
+    let gold = m2rc(
+        &[
+            "ablate",
+            "grounding",
+            "--suite",
+            s,
+            "--out",
+            "gg",
+            "--llm",
+            "gold",
+        ],
+        tmp.path(),
+    )
+    .expect(0);
+    for row in ["cag-gold", "schema-r0"] {
+        assert!(gold.stdout.contains(row), "{row} missing:\n{}", gold.stdout);
+    }
+    assert!(!gold.stdout.contains("schema-r3"), "{}", gold.stdout);
 }

@@ -325,6 +325,18 @@ codes! {
         "";
     LtlMixedRoute = "E0812", Error, "`go` stage in an LTL route",
         "";
+
+    // --- E09xx: JSON groundings (compiler::intent; the Schema and catalog-id variants) ------
+    GraphNotJson = "E0901", Error, "reply is not a JSON object",
+        "";
+    GraphShape = "E0902", Error, "malformed grounding JSON",
+        "";
+    GraphUnknownOperator = "E0903", Error, "unknown operator in an intent graph",
+        "";
+    CatalogUnknownId = "E0904", Error, "id not in the scene catalog",
+        "";
+    CatalogArity = "E0905", Error, "wrong number of ids for a constraint",
+        "";
 }
 
 #[cfg(test)]

@@ -1,0 +1,121 @@
+//! The ablation table's grounding variants (issue 31): the same compiler, RouteIR and planner as
+//! `grounding2route` (CaG), only the representation the model writes differs.
+//!
+//! * [`schema`]: a JSON intent graph over operators generated from the built-in table
+//!   (`m2rc_compiler::intent`), compiled deterministically to `.m2r`; its diagnostics point into
+//!   the graph, so the same repair loop runs on it.
+//!
+//! Each variant's model is one of: a server through the cache and batch exchange, the labelled
+//! simulated model ([`simulated`]: the `.m2r` fault classes, injected into the gold program before
+//! it is written as the variant's JSON), or `--llm gold` (the gold program in the variant's own
+//! form: the representation's ceiling, labelled `[GOLD replies]`).
+
+pub mod schema;
+pub mod simulated;
+
+use crate::calls::{GOLD_LABEL, ModelSetup};
+use m2rc_compiler::lower::{ChatError, ChatModel, ChatReply, ChatRequest, Usage, estimate_tokens};
+use m2rc_llm::{Backend, Exchange, Fetch};
+
+/// A model that answers every request with one fixed reply: a variant's gold oracle.
+pub struct GoldModel {
+    pub reply: Result<String, String>,
+}
+
+impl ChatModel for GoldModel {
+    fn complete(&self, request: &ChatRequest) -> Result<ChatReply, ChatError> {
+        let text = self
+            .reply
+            .clone()
+            .map_err(|e| ChatError::Failed(format!("gold reply unavailable: {e}")))?;
+        Ok(ChatReply {
+            choices: 1,
+            usage: Usage {
+                prompt_tokens: Some(
+                    request
+                        .messages
+                        .iter()
+                        .map(|m| estimate_tokens(&m.content) as u64)
+                        .sum(),
+                ),
+                completion_tokens: Some(estimate_tokens(&text) as u64),
+            },
+            content: Some(text),
+            finish_reason: Some("stop".into()),
+            refusal: None,
+            latency_ms: 0.0,
+        })
+    }
+}
+
+/// Runs `f` with the episode's model: the gold oracle, the simulated model, or the server, the
+/// last two through the run's cache and batch exchange.
+pub fn with_model<T>(
+    setup: &ModelSetup,
+    gold: impl FnOnce() -> Result<String, String>,
+    simulated: impl FnOnce(m2rc_llm::SimulatedSpec) -> Box<dyn Fetch>,
+    f: impl FnOnce(&dyn ChatModel) -> T,
+) -> Result<T, String> {
+    match &setup.backend {
+        Backend::Gold => Ok(f(&GoldModel { reply: gold() })),
+        Backend::Simulated(spec) => {
+            let fetch = simulated(*spec);
+            Ok(f(&Exchange {
+                store: &setup.store,
+                fetch: fetch.as_ref(),
+            }))
+        }
+        Backend::Http => match &setup.http {
+            Some(h) => Ok(f(&Exchange {
+                store: &setup.store,
+                fetch: h,
+            })),
+            None => Err("no LLM client configured".into()),
+        },
+    }
+}
+
+/// The label of what answered (gold, simulated or the server).
+pub fn model_label(setup: &ModelSetup) -> String {
+    match &setup.backend {
+        Backend::Gold => GOLD_LABEL.to_string(),
+        Backend::Simulated(s) => s.label(),
+        Backend::Http => format!(
+            "{} at {}",
+            setup.model,
+            setup.base_url.as_deref().unwrap_or("?")
+        ),
+    }
+}
+
+/// The model setup of a grounding variant: the baselines' setup, except that the simulated model
+/// is accepted (its faults are the `.m2r` model's, written in the variant's form).
+pub fn variant_setup(
+    llm: &m2rc_llm::LlmArgs,
+    args: &crate::registry::BaselineArgs,
+    default_cache: &std::path::Path,
+) -> Result<(ModelSetup, Option<String>), String> {
+    if let Backend::Simulated(spec) = llm.backend {
+        let (store, note) = llm.store(default_cache)?;
+        return Ok((
+            ModelSetup {
+                backend: Backend::Simulated(spec),
+                store,
+                http: None,
+                embed_http: None,
+                model: spec.model_name(),
+                base_url: None,
+                temperature: 0.0,
+                max_tokens: None,
+                embeddings: crate::calls::embed::EmbedMode::Lexical,
+            },
+            note,
+        ));
+    }
+    crate::registry::model_setup(llm, args, default_cache)
+}
+
+/// Whether `name` is a grounding variant (which takes the simulated model too).
+pub fn is_variant(name: &str) -> bool {
+    name == schema::NAME
+}

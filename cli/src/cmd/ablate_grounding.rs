@@ -1,0 +1,55 @@
+//! `m2rc ablate grounding`: the ablation table's grounding rows. The benchmark crate cannot build
+//! the variants (they live in `m2rc-baselines`, above it), so the rows are built here and run
+//! through `m2rc_benchmark::ablate::run_variants`: every row on the same planner, every model row
+//! on one reply cache (`<out>/grounding/llm-cache`), each one-shot (`-r0`, the reference's code)
+//! and with `--repair-rounds` R (`-rR`, the reference's table).
+
+use super::ablate::AblateArgs;
+use anyhow::Result;
+use m2rc_baselines::grounding::{schema, variant_setup};
+use m2rc_benchmark::ablate::{AblateOptions, named, run_variants};
+use m2rc_benchmark::methods::{Method, grounding2route::Grounding2Route, method_by_name};
+use m2rc_llm::Backend;
+use std::sync::Arc;
+
+pub const DESCRIPTION: &str = "the same compiler, RouteIR and planner, grounded from different \
+representations: CaG (the model writes `.m2r`), Schema (a JSON intent graph over operators \
+generated from the built-in table, compiled to `.m2r`); `-r0` rows are one-shot (the reference's \
+code), `-rR` rows repair up to R rounds (the reference's table). With `--llm gold` each row is its \
+representation's ceiling ([GOLD replies]; CaG's is the gold program, the `oracle` method)";
+
+/// The rows, in table order.
+pub fn variants(a: &AblateArgs) -> Result<Vec<Box<dyn Method>>, String> {
+    let cache = a.out.join("grounding").join("llm-cache");
+    let r = a.lower.repair_rounds;
+    let rounds: Vec<usize> = if r == 0 { vec![0] } else { vec![0, r] };
+    let gold = a.llm.backend == Backend::Gold;
+    let mut out: Vec<Box<dyn Method>> = Vec::new();
+    if gold {
+        let oracle = method_by_name("oracle").ok_or("no oracle method")?;
+        out.push(named("cag-gold", oracle));
+    }
+    for &k in &rounds {
+        if !gold {
+            let mut lower = a.lower.clone();
+            lower.repair_rounds = k;
+            let (m, _) = Grounding2Route::from_args(&a.llm, &lower, &cache)?;
+            out.push(named(format!("cag-r{k}"), Box::new(m)));
+        }
+        let (setup, _) = variant_setup(&a.llm, &a.baseline, &cache)?;
+        let mut s = schema::Schema::new(Arc::new(setup), k);
+        s.name = format!("schema-r{k}");
+        out.push(Box::new(s));
+        if gold {
+            // Gold replies are the same in every round: one row says the ceiling.
+            break;
+        }
+    }
+    Ok(out)
+}
+
+pub fn run(a: &AblateArgs, opts: &AblateOptions) -> Result<String> {
+    let rows = variants(a).map_err(anyhow::Error::msg)?;
+    let (_, _, markdown) = run_variants("grounding", DESCRIPTION, &rows, opts)?;
+    Ok(markdown)
+}
