@@ -307,6 +307,12 @@ pub fn load_map_doc_kind(
     arg: &str,
 ) -> Result<(m2rc_stdlib::map::MapDocument, m2rc_stdlib::load::SourceKind)> {
     let staged = MapArg::new(arg)?;
+    let cache = (!staged.is_stdin())
+        .then(|| crate::map_cache::Entry::for_arg(&staged.arg))
+        .flatten();
+    if let Some(doc) = cache.as_ref().and_then(|c| c.get()) {
+        return Ok((doc, m2rc_stdlib::load::SourceKind::Map2RouteMap));
+    }
     let db = asset_db_for(arg, None)?;
     let opts = m2rc_stdlib::load::LoadOptions {
         import: m2rc_stdlib::import::ImportOptions {
@@ -319,5 +325,10 @@ pub fn load_map_doc_kind(
     let (doc, kind) = m2rc_stdlib::load::load_map_with(&staged.arg, &opts)
         .map_err(|e| unusable(anyhow::Error::new(e).context(format!("cannot load map `{arg}`"))))?;
     warn_without_assets(arg, kind, db.is_some());
+    if let Some(c) = cache
+        && kind == m2rc_stdlib::load::SourceKind::Map2RouteMap
+    {
+        c.put(&doc);
+    }
     Ok((doc, kind))
 }

@@ -4,6 +4,7 @@
 mod cmd;
 mod io;
 mod lsp_stdio;
+mod map_cache;
 mod outputs;
 mod suite_layout;
 

@@ -16,6 +16,7 @@ mod faults_rundir;
 mod import_cli;
 mod lsp_stdio;
 mod ltl_cli;
+mod map_cache;
 mod nav2_cli;
 mod robot_out;
 mod run_cli;

@@ -264,6 +264,23 @@ fn read_frame(meta: &Map<String, Value>, ctx: &ErrCtx) -> Result<GridFrame, MapE
 
 /// Reads a parsed map document, keeping unknown content in [`MapExtra`].
 pub fn read_map_document(v: &Value, file: &str) -> Result<MapDocument, MapError> {
+    read_map_document_layers(v, file, None)
+}
+
+/// The three grid layers already in model form: what the prepared-map cache stores, so that a
+/// cached map skips parsing the millions of layer numbers that dominate a map file.
+pub(crate) struct Layers {
+    pub occupancy: Grid<u8>,
+    pub room: Grid<u32>,
+    pub object: Grid<u32>,
+}
+
+/// [`read_map_document`], taking the layers from `pre` (when given) instead of `layers`.
+pub(crate) fn read_map_document_layers(
+    v: &Value,
+    file: &str,
+    pre: Option<Layers>,
+) -> Result<MapDocument, MapError> {
     let ctx = ErrCtx::new(file);
     let root = as_obj(v, "", &ctx)?;
     let n64 = get(root, "grid_size", "", &ctx)?.as_u64().ok_or_else(|| {
@@ -310,25 +327,34 @@ pub fn read_map_document(v: &Value, file: &str) -> Result<MapDocument, MapError>
         Some(v) => Some(read_cell(v, n, "metadata.start_grid", &ctx)?),
     };
 
-    let layers = as_obj(get(root, "layers", "", &ctx)?, "layers", &ctx)?;
-    let occ_raw = read_layer(layers, "occupancy", n, &ctx)?;
-    let occupancy: Vec<u8> = occ_raw
-        .iter()
-        .map(|&x| {
-            if x as u64 == free_value {
-                FREE
-            } else if x == FREE as u32 || x > u8::MAX as u32 {
-                OBSTACLE
-            } else {
-                x as u8
-            }
-        })
-        .collect();
-    let room_data = read_layer(layers, "room", n, &ctx)?;
-    let object_data = read_layer(layers, "object_instance", n, &ctx)?;
-    let occupancy = Grid::from_vec(n, occupancy).expect("checked size");
-    let room_layer = Grid::from_vec(n, room_data).expect("checked size");
-    let object_layer = Grid::from_vec(n, object_data).expect("checked size");
+    let (occupancy, room_layer, object_layer) = match pre {
+        Some(l) if [l.occupancy.n(), l.room.n(), l.object.n()] == [n; 3] => {
+            (l.occupancy, l.room, l.object)
+        }
+        Some(_) => return Err(ctx.err("layers", format!("prepared layers are not {n}x{n}"))),
+        None => {
+            let layers = as_obj(get(root, "layers", "", &ctx)?, "layers", &ctx)?;
+            let occ_raw = read_layer(layers, "occupancy", n, &ctx)?;
+            let occupancy: Vec<u8> = occ_raw
+                .iter()
+                .map(|&x| {
+                    if x as u64 == free_value {
+                        FREE
+                    } else if x == FREE as u32 || x > u8::MAX as u32 {
+                        OBSTACLE
+                    } else {
+                        x as u8
+                    }
+                })
+                .collect();
+            let room_data = read_layer(layers, "room", n, &ctx)?;
+            let object_data = read_layer(layers, "object_instance", n, &ctx)?;
+            let occupancy = Grid::from_vec(n, occupancy).expect("checked size");
+            let room_layer = Grid::from_vec(n, room_data).expect("checked size");
+            let object_layer = Grid::from_vec(n, object_data).expect("checked size");
+            (occupancy, room_layer, object_layer)
+        }
+    };
 
     let mut extra = MapExtra {
         metadata,

@@ -6,6 +6,7 @@ pub mod frame;
 pub mod legend;
 pub mod model;
 mod open;
+pub mod prepared;
 pub mod pyjson;
 pub mod vocab;
 mod write;
