@@ -19,4 +19,5 @@ mod ltl_cli;
 mod nav2_cli;
 mod robot_out;
 mod run_cli;
+mod serve_cli;
 mod usability_cli;
