@@ -51,6 +51,8 @@ enum Command {
     Prompt(cmd::prompt::PromptArgs),
     /// Run the paper's ablations over a suite, each into one table (docs/ablations.md).
     Ablate(cmd::ablate::AblateArgs),
+    /// Serve routes over HTTP: POST /route with a .m2r program, GET /map (docs/serve.md).
+    Serve(cmd::serve::ServeArgs),
     /// Turn an LTLf formula into its minimal automaton (JSON, HOA, DOT).
     Ltl(cmd::ltl::LtlArgs),
     /// Inspect the Table I baselines (`explain`: every step of one instruction).
@@ -75,6 +77,7 @@ fn main() -> ExitCode {
         Command::Ablate(a) => cmd::ablate::run(a),
         Command::Ltl(a) => cmd::ltl::run(a),
         Command::Baseline(c) => cmd::baseline::run(c),
+        Command::Serve(a) => cmd::serve::run(a),
     };
     match result {
         Ok(code) => code,

@@ -379,7 +379,7 @@ fn open_areas(map: &SemanticMap) -> Vec<Vec<u32>> {
     out
 }
 
-fn info_json(map: &SemanticMap) -> serde_json::Value {
+pub(crate) fn info_json(map: &SemanticMap) -> serde_json::Value {
     let adjacency = map.room_adjacency();
     let links = map.room_links();
     json!({

@@ -17,4 +17,6 @@ pub mod map_check;
 pub mod prompt;
 pub mod route_out;
 pub mod run;
+pub mod serve;
+pub mod serve_route;
 pub mod suite;

@@ -20,5 +20,6 @@ mod map_cache;
 mod nav2_cli;
 mod robot_out;
 mod run_cli;
+mod serve_cli;
 mod table1_cli;
 mod usability_cli;
