@@ -4,9 +4,9 @@
 mod calls;
 mod gold;
 mod graphs_mock;
+mod grounding;
 mod iln_graph;
 mod ltlcodegen;
-mod grounding;
 mod methods;
 mod osgllm;
 mod planners;
