@@ -38,6 +38,9 @@ pub fn m2rc_in(args: &[&str], cwd: &Path, stdin: &[u8]) -> Run {
         .args(args)
         .current_dir(cwd)
         .env("CI", "1")
+        // Tests read many temporary maps: keep their prepared forms out of the user's cache
+        // (`map_cache.rs` turns it on in a directory of its own).
+        .env("M2RC_MAP_CACHE", "off")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
