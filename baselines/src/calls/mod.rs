@@ -89,6 +89,49 @@ impl Fetch for Tuned<'_> {
     }
 }
 
+/// The gold oracle as a backend, so its replies are cached like a model's. Its model name is
+/// part of every cache key, so a server's replies and the oracle's never answer for each other.
+struct GoldOracle {
+    /// `None` in a cache-only run: a miss there must fail, not be answered.
+    reply: Option<String>,
+    temperature: f64,
+}
+
+/// The model name under which gold replies are cached.
+pub const GOLD_MODEL: &str = "m2rc-gold-oracle";
+
+impl Fetch for GoldOracle {
+    fn model(&self) -> &str {
+        GOLD_MODEL
+    }
+    fn temperature(&self) -> f64 {
+        self.temperature
+    }
+    fn max_tokens(&self) -> Option<u32> {
+        None
+    }
+    fn key_extra(&self, _request: &ChatRequest) -> String {
+        "gold".into()
+    }
+    fn fetch(&self, request: &ChatRequest, _body: &Value) -> Result<Fetched, ChatError> {
+        let text = self.reply.as_ref().ok_or_else(|| {
+            ChatError::Failed(format!("no gold reply for `{}`", request.custom_id))
+        })?;
+        Ok(Fetched {
+            response: json!({
+                "model": GOLD_MODEL,
+                "choices": [{
+                    "index": 0,
+                    "message": {"role": "assistant", "content": text},
+                    "finish_reason": "stop",
+                }],
+                "usage": {"prompt_tokens": 0, "completion_tokens": 0},
+            }),
+            latency_ms: 0.0,
+        })
+    }
+}
+
 /// One episode's calls.
 pub struct Session<'a> {
     setup: &'a ModelSetup,
@@ -160,7 +203,7 @@ impl<'a> Session<'a> {
             .map(|m| m.content.clone())
             .unwrap_or_default();
         if self.is_gold() {
-            let reply = gold();
+            let reply = self.gold_reply(&custom_id, messages, gold);
             self.calls.push(json!({
                 "step": step,
                 "custom_id": custom_id,
@@ -208,6 +251,49 @@ impl<'a> Session<'a> {
         }
         self.calls.push(record);
         out
+    }
+
+    /// The oracle's reply. With a reply cache (and no batch file) it goes through the exchange
+    /// like a model's, under a model name no server has, so a second gold run is answered from
+    /// the cache: that is how the whole table is measured "with every reply cached" offline, and
+    /// `--llm-cache-only` proves it. An oracle that cannot answer is never cached.
+    fn gold_reply(
+        &self,
+        custom_id: &str,
+        messages: Vec<Message>,
+        gold: &dyn Fn() -> Result<String, String>,
+    ) -> Result<String, String> {
+        let store = &self.setup.store;
+        if store.cache.is_none() || store.batch.is_some() {
+            return gold();
+        }
+        let oracle = GoldOracle {
+            reply: if store.cache_only {
+                None
+            } else {
+                Some(gold()?)
+            },
+            temperature: self.temperature,
+        };
+        let exchange = Exchange {
+            store,
+            fetch: &oracle,
+        };
+        let request = ChatRequest {
+            custom_id: custom_id.to_string(),
+            messages,
+        };
+        match exchange.complete(&request) {
+            Ok(reply) => reply
+                .content
+                .ok_or_else(|| format!("{custom_id}: the cached gold reply has no text")),
+            Err(ChatError::Failed(m)) => match gold() {
+                // A cache-only run whose oracle cannot answer fails as the oracle would.
+                Err(e) => Err(e),
+                Ok(_) => Err(m),
+            },
+            Err(ChatError::Pending(_)) => gold(),
+        }
     }
 
     /// Embeddings of `texts`, named `step`; the same lengths as every earlier embedding of the

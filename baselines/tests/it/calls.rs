@@ -3,10 +3,11 @@
 //! of request.
 
 use crate::support::*;
+use m2rc_baselines::ModelSetup;
 use m2rc_baselines::Session;
 use m2rc_benchmark::episode::Episode;
 use m2rc_compiler::lower::Message;
-use m2rc_llm::{ResponseCache, import_batch_files};
+use m2rc_llm::{ResponseCache, Store, import_batch_files};
 use serde_json::{Value, json};
 
 fn episode() -> Episode {
@@ -115,6 +116,61 @@ fn gold_replies_come_from_the_oracle_and_are_recorded() {
     );
     assert_eq!(s.calls[0]["gold"], true);
     assert!(setup.label().starts_with("[GOLD replies]"));
+}
+
+#[test]
+fn gold_replies_go_through_the_cache_so_a_cache_only_run_repeats_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cache = tmp.path().join("cache");
+    let with_cache = |cache_only| ModelSetup {
+        store: Store::new(Some(ResponseCache::new(&cache)), None, cache_only),
+        ..gold_setup()
+    };
+    let ep = episode();
+    let msgs = |u: &str| vec![Message::system("sys"), Message::user(u)];
+    let first = with_cache(false);
+    let mut s = Session::new(&first, "m", "m1", &ep);
+    assert_eq!(
+        s.chat("a", msgs("x"), &|| Ok("gold a".into())).unwrap(),
+        "gold a"
+    );
+    // An oracle that cannot answer is not cached, and fails the same way each time.
+    assert_eq!(
+        s.chat("b", msgs("y"), &no_gold).unwrap_err().status,
+        "gold_unavailable"
+    );
+    assert_eq!(first.store.stats().fetched, 1);
+    let second = with_cache(true);
+    let mut s2 = Session::new(&second, "m", "m1", &ep);
+    // The cached reply answers, not the oracle (which now says something else).
+    assert_eq!(
+        s2.chat("a", msgs("x"), &|| Ok("changed".into())).unwrap(),
+        "gold a"
+    );
+    assert_eq!(
+        s2.chat("b", msgs("y"), &no_gold).unwrap_err().status,
+        "gold_unavailable"
+    );
+    // A request the first run never made is a cache-only miss, not an oracle answer.
+    let miss = s2
+        .chat("c", msgs("z"), &|| Ok("gold c".into()))
+        .unwrap_err();
+    assert_eq!(miss.status, "gold_unavailable");
+    assert!(miss.message.contains("--llm-cache-only"), "{miss}");
+    assert_eq!(second.store.stats().cache_hits, 1);
+    // The records are the same whether the reply came from the oracle or the cache.
+    assert_eq!(s.calls[0], s2.calls[0]);
+    // A server's model of the same messages is not answered by the oracle's entry.
+    let http = server_setup("http://offline.invalid", &cache, None);
+    let http = ModelSetup {
+        store: Store::new(Some(ResponseCache::new(&cache)), None, true),
+        ..http
+    };
+    let mut s3 = Session::new(&http, "m", "m1", &ep);
+    assert_eq!(
+        s3.chat("a", msgs("x"), &no_gold).unwrap_err().status,
+        "llm_failed"
+    );
 }
 
 #[test]
