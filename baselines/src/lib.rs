@@ -42,4 +42,6 @@ pub mod sayplan;
 
 pub use calls::{GOLD_LABEL, ModelSetup, Session};
 pub use common::failure::Failure;
-pub use registry::{BASELINES, BaselineArgs, Built, baseline_names, build, is_baseline};
+pub use registry::{
+    BASELINES, BaselineArgs, Built, baseline_names, build, is_baseline, uses_embeddings,
+};

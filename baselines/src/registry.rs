@@ -40,6 +40,15 @@ pub const GROUNDING_VARIANTS: &[Baseline] = &[Baseline::new(
     crate::grounding::schema::make,
 )];
 
+/// The methods that ground by text similarity, so their runs say where embeddings came from.
+const EMBEDDING_USERS: &[&str] = &[crate::lang2ltl::NAME, crate::lang2ltl2::NAME];
+
+/// Whether `name` asks for embeddings (the others' labels leave them out: saying "lexical
+/// embeddings" on a method that never embeds would suggest a handicap it does not have).
+pub fn uses_embeddings(name: &str) -> bool {
+    EMBEDDING_USERS.contains(&name)
+}
+
 fn every_method() -> impl Iterator<Item = &'static Baseline> {
     BASELINES.iter().chain(GROUNDING_VARIANTS)
 }

@@ -43,7 +43,12 @@ impl ModelSetup {
 
     /// What answered the calls, for records and messages.
     pub fn label(&self) -> String {
-        let chat = match &self.backend {
+        format!("{}; {}", self.chat_label(), self.embeddings.label())
+    }
+
+    /// What answered the chat calls alone, for the methods that never embed text.
+    pub fn chat_label(&self) -> String {
+        match &self.backend {
             Backend::Gold => GOLD_LABEL.to_string(),
             Backend::Http => format!(
                 "{} at {}",
@@ -51,8 +56,7 @@ impl ModelSetup {
                 self.base_url.as_deref().unwrap_or("?")
             ),
             Backend::Simulated(s) => s.label(),
-        };
-        format!("{chat}; {}", self.embeddings.label())
+        }
     }
 
     /// What decides the replies (not the caches, batch files, timeouts or concurrency), for the

@@ -70,7 +70,7 @@ impl Method for Iln {
             _ => serde_json::Map::new(),
         };
         block.insert("calls".into(), json!(session.calls));
-        block.insert("model".into(), json!(self.setup.label()));
+        block.insert("model".into(), json!(self.setup.chat_label()));
         block.insert("gold_replies".into(), json!(self.setup.is_gold()));
         let notes = gold_note(
             &self.setup,

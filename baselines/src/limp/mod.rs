@@ -77,7 +77,7 @@ impl Method for Limp {
             &mut session,
             &mut block,
         );
-        block.insert("model".into(), json!(self.setup.label()));
+        block.insert("model".into(), json!(self.setup.chat_label()));
         block.insert("gold_replies".into(), json!(self.setup.is_gold()));
         block.insert("calls".into(), json!(session.calls));
         let notes = if self.setup.is_gold() {

@@ -144,7 +144,7 @@ impl Method for OsgLlm {
             block = m;
         }
         block.insert("calls".into(), Value::Array(session.calls));
-        block.insert("model".into(), json!(self.setup.label()));
+        block.insert("model".into(), json!(self.setup.chat_label()));
         block.insert("gold_replies".into(), json!(self.setup.is_gold()));
         if self.setup.is_gold() {
             notes.insert(

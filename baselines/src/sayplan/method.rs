@@ -64,7 +64,7 @@ impl Method for SayPlan {
         };
         block.insert("inference_contract_version".into(), json!(2));
         block.insert("calls".into(), json!(session.calls));
-        block.insert("model".into(), json!(self.setup.label()));
+        block.insert("model".into(), json!(self.setup.chat_label()));
         block.insert("gold_replies".into(), json!(self.setup.is_gold()));
         let notes = gold_note(
             &self.setup,

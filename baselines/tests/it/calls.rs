@@ -219,3 +219,15 @@ fn batch_round_trip_with_chat_and_embeddings() {
     );
     assert_eq!(s.embed("aps", &["a".into()]).unwrap(), vec![vec![0.1, 0.2]]);
 }
+
+#[test]
+fn only_the_methods_that_embed_text_name_their_embeddings() {
+    let setup = gold_setup();
+    assert_eq!(setup.chat_label(), "[GOLD replies]");
+    assert!(setup.label().contains("LEXICAL"), "{}", setup.label());
+    assert!(m2rc_baselines::uses_embeddings("lang2ltl"));
+    assert!(m2rc_baselines::uses_embeddings("lang2ltl-2"));
+    for name in ["sayplan", "osg-llm", "limp", "ltlcodegen", "iln"] {
+        assert!(!m2rc_baselines::uses_embeddings(name), "{name}");
+    }
+}

@@ -158,7 +158,12 @@ pub(crate) fn run_method(a: RunArgs) -> Result<ExitCode> {
         if let Some(n) = &built.note {
             eprintln!("{n}");
         }
-        eprintln!("note: {}: {}", a.method, built.setup.label());
+        let label = if m2rc_baselines::uses_embeddings(&a.method) {
+            built.setup.label()
+        } else {
+            built.setup.chat_label()
+        };
+        eprintln!("note: {}: {label}", a.method);
         baseline_setup = Some(built.setup);
         built.method
     } else if a.method == "grounding2route" {
