@@ -33,9 +33,13 @@ pub struct ExplainArgs {
     /// Map file (Map2Route JSON, ProcTHOR house JSON) or `demo`.
     #[arg(long)]
     pub map: String,
-    /// Start cell `row,col` (default: the map's start, else its first free cell).
-    #[arg(long)]
-    pub start: Option<String>,
+    /// Start `x,y` in metres in the map's frame, as `compile` and `run` take it (default: the
+    /// map's start, else its first free cell).
+    #[arg(long, value_parser = crate::cmd::route_out::parse_xy, allow_hyphen_values = true, conflicts_with = "start_cell")]
+    pub start: Option<[f64; 2]>,
+    /// Start cell `row,col`.
+    #[arg(long, value_parser = crate::cmd::route_out::parse_cell)]
+    pub start_cell: Option<m2rc_stdlib::grid::Cell>,
     /// `text`, or the method's whole record block as JSON.
     #[arg(long, value_enum, default_value_t = ExplainFormat::Text)]
     pub format: ExplainFormat,
@@ -53,17 +57,26 @@ pub fn run(c: BaselineCommand) -> Result<ExitCode> {
 
 fn explain(a: ExplainArgs) -> Result<ExitCode> {
     crate::cmd::prompt::check_instruction(&a.instruction)?;
-    let map = crate::io::load_map(&a.map)?;
-    let start = match &a.start {
-        Some(s) => {
-            let (r, c) = s
-                .split_once(',')
-                .and_then(|(r, c)| {
-                    Some((r.trim().parse::<u32>().ok()?, c.trim().parse::<u32>().ok()?))
-                })
-                .ok_or_else(|| unusable(anyhow::anyhow!("--start `{s}` is not `row,col`")))?;
-            m2rc_stdlib::grid::Cell::new(r, c)
-        }
+    if a.llm.backend != m2rc_llm::Backend::Http {
+        return Err(unusable(anyhow::anyhow!(
+            "--llm {}: `baseline explain` takes an instruction, not an episode, so there are no \
+             gold annotations or gold program to answer from; explain needs a model server \
+             (`--llm http`). For gold replies run `m2rc bench run --method {} --llm gold --suite S \
+             --shard 1/100` and read the records",
+            if a.llm.backend == m2rc_llm::Backend::Gold {
+                "gold"
+            } else {
+                "simulated"
+            },
+            a.method
+        )));
+    }
+    let (doc, _) = crate::io::load_map_doc_kind(&a.map)?;
+    let frame = m2rc_stdlib::map::frame::MapFrame::of(&doc.map, Some(&doc.extra))
+        .map_err(|e| unusable(anyhow::Error::new(e).context(format!("map `{}`", a.map))))?;
+    let map = doc.map;
+    let start = match crate::cmd::route_out::start_from(a.start, a.start_cell, &frame, map.n())? {
+        Some(c) => c,
         None => map
             .start
             .or_else(|| {
@@ -76,7 +89,7 @@ fn explain(a: ExplainArgs) -> Result<ExitCode> {
     };
     if !map.is_free(start) {
         return Err(unusable(anyhow::anyhow!(
-            "--start {},{} is not a free cell of the map",
+            "the start cell {},{} is not a free cell of the map",
             start.row,
             start.col
         )));

@@ -112,7 +112,7 @@ pub fn start_from(
             let (x0, y0) = frame.corner_to_map(0.0, 0.0);
             let (x1, y1) = frame.corner_to_map(n as f64, n as f64);
             Err(crate::io::unusable(anyhow!(
-                "--start {x},{y} is outside the map: its grid covers x {:.2}..{:.2} m and y                  {:.2}..{:.2} m in frame `{}`",
+                "--start {x},{y} is outside the map: its grid covers x {:.2}..{:.2} m and y {:.2}..{:.2} m in frame `{}`",
                 x0.min(x1),
                 x0.max(x1),
                 y0.min(y1),

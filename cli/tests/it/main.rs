@@ -6,6 +6,7 @@ mod check_cli;
 mod common;
 mod compile_cli;
 mod docs_benchmark;
+mod explain_cli;
 mod faults_episode;
 mod faults_io;
 mod faults_lsp;

@@ -60,6 +60,33 @@ fn table1_with_gold_replies_is_the_ceilings_table_in_the_papers_order() {
     let again = table1(&out, &["--llm", "gold"]).expect(0);
     assert!(again.stdout.contains("0 written"), "{}", again.stdout);
     assert!(!again.stdout.contains(" 1 written") && !again.stdout.contains(" 3 written"));
+    // The gold replies went into the shared cache: a fresh table on the cache alone, with every
+    // request a cache hit or a failure, gives the same rows (the cached-table benchmark's setup).
+    let cached = tmp.path().join("t1-cached");
+    let cache = out.join("llm-cache");
+    let c = table1(
+        &cached,
+        &[
+            "--llm",
+            "gold",
+            "--llm-cache-only",
+            "--llm-cache",
+            cache.to_str().unwrap(),
+        ],
+    )
+    .expect(0);
+    let all = format!("{}{}", c.stdout, c.stderr);
+    assert!(!all.contains("fetched, 0 pending, 1 failed"), "{all}");
+    assert!(all.contains("answered from the cache"), "{all}");
+    let rows = |p: &Path| {
+        std::fs::read_to_string(p.join("table1.md"))
+            .unwrap()
+            .lines()
+            .filter(|l| l.starts_with("| "))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(rows(&out), rows(&cached));
 }
 
 #[test]
