@@ -102,6 +102,7 @@ pub fn run(a: Table1Args) -> Result<ExitCode> {
         .clone()
         .unwrap_or_else(|| a.out.join("llm-cache"));
     let mut dirs = Vec::new();
+    let mut timings = Vec::new();
     for method in &methods {
         let mut llm = a.llm.clone();
         llm.llm_cache = Some(cache.clone());
@@ -118,6 +119,7 @@ pub fn run(a: Table1Args) -> Result<ExitCode> {
         }
         let out = a.out.join(method);
         eprintln!("== {method} -> {}", out.display());
+        let began = std::time::Instant::now();
         run_method(RunArgs {
             suite: a.suite.clone(),
             method: method.clone(),
@@ -132,7 +134,14 @@ pub fn run(a: Table1Args) -> Result<ExitCode> {
             lower: a.lower.clone(),
             baseline: a.baseline.clone(),
         })?;
+        timings.push((method.clone(), began.elapsed().as_secs_f64()));
         dirs.push(out);
+    }
+    // Wall times go to the terminal only: records and tables stay the same bytes on every run.
+    for (method, secs) in &timings {
+        eprintln!(
+            "time: {method}: {secs:.1} s in this invocation (episodes already done are not re-run)"
+        );
     }
     dirs.extend(a.with.iter().cloned());
     let runs = load_runs_with(
