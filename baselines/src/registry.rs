@@ -35,10 +35,20 @@ pub const BASELINES: &[Baseline] = &[
 
 /// The ablation table's grounding variants (issue 31): built like baselines, but not rows of
 /// Table I, so `bench table1` does not run them.
-pub const GROUNDING_VARIANTS: &[Baseline] = &[Baseline::new(
-    crate::grounding::schema::NAME,
-    crate::grounding::schema::make,
-)];
+pub const GROUNDING_VARIANTS: &[Baseline] = &[
+    Baseline::new(
+        crate::grounding::schema::NAME,
+        crate::grounding::schema::make,
+    ),
+    Baseline::new(
+        crate::grounding::directid::NAME,
+        crate::grounding::directid::make,
+    ),
+    Baseline::new(
+        crate::grounding::directid::ltl::NAME,
+        crate::grounding::directid::ltl::make,
+    ),
+];
 
 fn every_method() -> impl Iterator<Item = &'static Baseline> {
     BASELINES.iter().chain(GROUNDING_VARIANTS)
