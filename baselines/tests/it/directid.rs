@@ -124,12 +124,14 @@ fn validation_errors_name_the_json_pointer_code_and_fix() {
             {"id": "s1", "target_id": format!("obejct_{obj}")},
             {"id": "s2", "target_id": "object_999999"},
             {"id": "s3", "target_id": "task_start"},
+            {"id": "s4", "target_id": format!("room_{room}")},
         ], "constraints": [
             {"kind": "prefer_near", "ref_ids": [format!("object_{obj}"), format!("room_{room}")]},
             {"kind": "prefer_path_shape", "ref_ids": [format!("object_{obj}")], "path_shape": {"type": "follow_wall"}},
             {"kind": "prefer_relative", "ref_ids": [format!("object_{obj}"), format!("room_{room}")]},
             {"kind": "forbid", "ref_ids": [format!("room_{room}")], "segment_ids": ["s9"]},
             {"kind": "hover", "ref_ids": []},
+            {"kind": "forbid", "ref_ids": ["task_start"]},
         ]}),
         &q,
     );
@@ -149,7 +151,12 @@ fn validation_errors_name_the_json_pointer_code_and_fix() {
             .unwrap()
             .contains("write `")
     );
-    let kind = find(&ds, "/segments/2/target_id");
+    // Going back to the start is a destination; avoiding it is not a place.
+    assert!(
+        ds.iter().all(|d| d.pointer != "/segments/2/target_id"),
+        "{ds:?}"
+    );
+    let kind = find(&ds, "/constraints/5/ref_ids/0");
     assert_eq!(kind.diagnostic.code.id(), "E0902");
     assert!(kind.diagnostic.message.contains("the start"), "{kind:?}");
     let arity = find(&ds, "/constraints/0/ref_ids");
@@ -488,4 +495,80 @@ fn direct_id_against_a_mock_server_and_through_a_batch_round_trip() {
     .unwrap();
     let recs = read_records(&out3).unwrap();
     assert_eq!(recs[0]["status"], "ok", "{}", recs[0]);
+}
+
+/// The token benchmark (not a test): the first prompt's estimated tokens per episode for
+/// CaG, Schema, Direct ID and catalog-LTL on a suite, mean and largest with its map. Run with
+/// `M2RC_TOKENS_SUITE=DIR cargo test -p m2rc-baselines --test it prompt_tokens -- --ignored
+/// --nocapture` (`M2RC_TOKENS_EVERY=N` takes every N-th episode).
+#[test]
+#[ignore = "a measurement on a built suite, not a test"]
+fn prompt_tokens_per_episode() {
+    use m2rc_baselines::grounding::directid::prompt::direct_id_prompt;
+    use m2rc_compiler::intent::schema_prompt;
+    use m2rc_compiler::lower::{CatalogMode, Prompt, PromptOptions, SceneCatalog};
+    let dir =
+        std::path::PathBuf::from(std::env::var("M2RC_TOKENS_SUITE").expect("M2RC_TOKENS_SUITE"));
+    let every: usize = std::env::var("M2RC_TOKENS_EVERY")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
+    let m = SuiteManifest::read(&dir).unwrap();
+    let names = ["cag", "schema", "directid", "catalog-ltl"];
+    let mut stats: Vec<(usize, usize, usize, String)> = vec![(0, 0, 0, String::new()); names.len()];
+    let mut maps: std::collections::BTreeMap<String, m2rc_stdlib::map::SemanticMap> =
+        Default::default();
+    for e in m
+        .episodes
+        .iter()
+        .filter(|e| e.split == "eval")
+        .step_by(every.max(1))
+    {
+        let map = maps.entry(e.map_id.clone()).or_insert_with(|| {
+            let path = m.map_path(&dir, &e.map_id).unwrap();
+            m2rc_stdlib::load::load_map(path.to_str().unwrap()).unwrap()
+        });
+        let ep = Episode::read(&dir.join(&e.file)).unwrap();
+        let instruction = ep.instruction.clone().unwrap_or_default();
+        let q = MapQuery::new(map);
+        let start = start_cell(map, &ep).unwrap();
+        let counts = SceneCatalog::from_map(map, CatalogMode::Counts);
+        let catalog = catalog::compact_catalog(&q, start);
+        let prompts: [Prompt; 4] = [
+            Prompt::new(
+                &map.map_id,
+                &counts,
+                &instruction,
+                &PromptOptions::default(),
+            ),
+            schema_prompt(
+                &map.map_id,
+                &counts,
+                &instruction,
+                m2rc_baselines::grounding::schema::EXAMPLES,
+            ),
+            direct_id_prompt(&catalog, &instruction),
+            ltl::ltl_prompt(&catalog, &instruction),
+        ];
+        for (s, p) in stats.iter_mut().zip(&prompts) {
+            let t = p.estimated_tokens();
+            s.0 += 1;
+            s.1 += t;
+            if t > s.2 {
+                s.2 = t;
+                s.3 = format!("{} ({} objects)", map.map_id, map.objects.len());
+            }
+        }
+    }
+    println!("| variant | episodes | mean tokens | largest | largest on |");
+    println!("| --- | ---: | ---: | ---: | --- |");
+    for (n, s) in names.iter().zip(&stats) {
+        println!(
+            "| {n} | {} | {:.0} | {} | {} |",
+            s.0,
+            s.1 as f64 / s.0.max(1) as f64,
+            s.2,
+            s.3
+        );
+    }
 }

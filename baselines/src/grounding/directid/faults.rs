@@ -6,7 +6,7 @@
 //! |---|---|
 //! | misspelled_category | an id's kind word misspelled (`obejct_12`): the diagnostic's help names the id |
 //! | unknown_category | an id the catalog does not have (a number past the map's largest) |
-//! | wrong_argument_type | a segment's target given as `task_start` (a kind the slot cannot take) |
+//! | wrong_argument_type | `task_start` where a place to avoid, pass through or scope to is asked (a kind the slot cannot take) |
 //! | wrong_argument_count | one id too many on a one-id or two-id constraint |
 //! | missing_scope | a constraint's `spatial_scope_ids` left out |
 //! | dropped_constraint | a constraint left out |
@@ -109,12 +109,31 @@ fn unknown(reply: &mut Value, rng: &mut ChaCha8Rng, largest: u32) -> bool {
 }
 
 fn wrong_type(reply: &mut Value, rng: &mut ChaCha8Rng, _: u32) -> bool {
-    let n = reply["segments"].as_array().map_or(0, Vec::len);
-    if n == 0 {
-        return false;
+    // Slots that cannot hold the start: an avoided place, a through-waypoint, a scope.
+    let mut slots = Vec::new();
+    for (i, c) in reply["constraints"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .enumerate()
+    {
+        if c["kind"] == "forbid" || c["path_shape"]["type"] == "through" {
+            slots.push(format!("/constraints/{i}/ref_ids/0"));
+        }
+        if c["spatial_scope_ids"].is_array() {
+            slots.push(format!("/constraints/{i}/spatial_scope_ids/0"));
+        }
     }
-    reply["segments"][rng.random_range(0..n)]["target_id"] = Value::String("task_start".into());
-    true
+    let Some(p) = pick(&slots, rng) else {
+        return false;
+    };
+    match reply.pointer_mut(&p) {
+        Some(slot) => {
+            *slot = Value::String("task_start".into());
+            true
+        }
+        None => false,
+    }
 }
 
 fn constraints_where(reply: &Value, ok: impl Fn(&Value) -> bool) -> Vec<usize> {

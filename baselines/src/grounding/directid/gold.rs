@@ -69,7 +69,7 @@ pub fn gold_ids(ir: &RouteIr, q: &MapQuery) -> GoldIds {
     let mut constraints = Vec::new();
     for (i, s) in ir.stages.iter().enumerate() {
         let target = match catalog_ref(&s.target) {
-            Some(r) if r != Ref::Start => r,
+            Some(r) => r,
             _ => {
                 let room = q.room_of(Target::Cells(s.target.cells.cells()));
                 lossy.push(format!(

@@ -12,7 +12,7 @@ pub const SYSTEM: &str =
 pub const FORMAT: &str = "\
 Reply with one JSON object {segments, constraints}.
 - segments: every destination in visiting order, from `task_start`: [{id, target_id}]. `id` is \
-your name for the segment (\"s1\", \"s2\", ...); `target_id` is a room or object id.
+your name for the segment (\"s1\", \"s2\", ...); `target_id` is a room or object id (`task_start` to go back to the start).
 - constraints: [{kind, ref_ids, segment_ids?, spatial_scope_ids?, within_m?, relation?, \
 path_shape?, source_text?}].
   - kind `require_visit`: pass `ref_ids[0]` on the way to the one segment in `segment_ids`.

@@ -246,7 +246,7 @@ pub fn validate(reply: &Value, q: &MapQuery) -> Result<Grounding, Vec<GraphDiagn
                 if let Some(r) = c.id(
                     target,
                     &format!("{p}/target_id"),
-                    &[is_place],
+                    &[is_any],
                     "a segment's target",
                 ) {
                     segments.push((id, r));
