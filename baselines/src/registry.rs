@@ -35,10 +35,20 @@ pub const BASELINES: &[Baseline] = &[
 
 /// The ablation table's grounding variants (issue 31): built like baselines, but not rows of
 /// Table I, so `bench table1` does not run them.
-pub const GROUNDING_VARIANTS: &[Baseline] = &[Baseline::new(
-    crate::grounding::schema::NAME,
-    crate::grounding::schema::make,
-)];
+pub const GROUNDING_VARIANTS: &[Baseline] = &[
+    Baseline::new(
+        crate::grounding::schema::NAME,
+        crate::grounding::schema::make,
+    ),
+    Baseline::new(
+        crate::grounding::directid::NAME,
+        crate::grounding::directid::make,
+    ),
+    Baseline::new(
+        crate::grounding::directid::ltl::NAME,
+        crate::grounding::directid::ltl::make,
+    ),
+];
 
 /// The methods that ground by text similarity, so their runs say where embeddings came from.
 const EMBEDDING_USERS: &[&str] = &[crate::lang2ltl::NAME, crate::lang2ltl2::NAME];

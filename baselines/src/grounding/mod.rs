@@ -4,12 +4,16 @@
 //! * [`schema`]: a JSON intent graph over operators generated from the built-in table
 //!   (`m2rc_compiler::intent`), compiled deterministically to `.m2r`; its diagnostics point into
 //!   the graph, so the same repair loop runs on it.
+//! * [`directid`]: the model picks ids from a compact catalog of the map; m2rc checks them and
+//!   builds the RouteIR directly. Its catalog-LTL form (`directid::ltl`) writes the same ids under
+//!   a restricted LTL skeleton.
 //!
 //! Each variant's model is one of: a server through the cache and batch exchange, the labelled
 //! simulated model ([`simulated`]: the `.m2r` fault classes, injected into the gold program before
 //! it is written as the variant's JSON), or `--llm gold` (the gold program in the variant's own
 //! form: the representation's ceiling, labelled `[GOLD replies]`).
 
+pub mod directid;
 pub mod schema;
 pub mod simulated;
 
@@ -117,5 +121,5 @@ pub fn variant_setup(
 
 /// Whether `name` is a grounding variant (which takes the simulated model too).
 pub fn is_variant(name: &str) -> bool {
-    name == schema::NAME
+    [schema::NAME, directid::NAME, directid::ltl::NAME].contains(&name)
 }

@@ -2,6 +2,7 @@
 //! through the batch round trip, and each method's pipeline.
 
 mod calls;
+mod directid;
 mod gold;
 mod graphs_mock;
 mod grounding;

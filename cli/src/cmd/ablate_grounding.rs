@@ -6,6 +6,8 @@
 
 use super::ablate::AblateArgs;
 use anyhow::Result;
+use m2rc_baselines::calls::ModelSetup;
+use m2rc_baselines::grounding::directid::{CatalogIds, DIRECT_ID, ltl};
 use m2rc_baselines::grounding::{schema, variant_setup};
 use m2rc_benchmark::ablate::{AblateOptions, named, run_variants};
 use m2rc_benchmark::methods::{Method, grounding2route::Grounding2Route, method_by_name};
@@ -14,9 +16,27 @@ use std::sync::Arc;
 
 pub const DESCRIPTION: &str = "the same compiler, RouteIR and planner, grounded from different \
 representations: CaG (the model writes `.m2r`), Schema (a JSON intent graph over operators \
-generated from the built-in table, compiled to `.m2r`); `-r0` rows are one-shot (the reference's \
+generated from the built-in table, compiled to `.m2r`), Direct ID (catalog ids picked from a compact \
+catalog of the map, built into RouteIR), catalog-LTL (the same ids under a restricted LTL skeleton, \
+through the Direct ID path; not the `gold+ltl`/`llm+ltl` rows, which plan `.m2r` with the LTL \
+backend); `-r0` rows are one-shot (the reference's \
 code), `-rR` rows repair up to R rounds (the reference's table). With `--llm gold` each row is its \
 representation's ceiling ([GOLD replies]; CaG's is the gold program, the `oracle` method)";
+
+/// A repairable JSON variant: its row prefix and how to build it with R repair rounds.
+type Variant = (&'static str, fn(Arc<ModelSetup>, usize) -> Box<dyn Method>);
+
+/// The JSON grounding variants after CaG, in the paper's table order.
+const VARIANTS: &[Variant] = &[
+    ("schema", |s, k| Box::new(schema::Schema::new(s, k))),
+    ("directid", |s, k| {
+        Box::new(CatalogIds::new(s, k, &DIRECT_ID))
+    }),
+    // ToolCall's row goes here (branch `toolcall`): one entry ("toolcall", |s, k| ...).
+    ("catalog-ltl", |s, k| {
+        Box::new(CatalogIds::new(s, k, &ltl::FORM))
+    }),
+];
 
 /// The rows, in table order.
 pub fn variants(a: &AblateArgs) -> Result<Vec<Box<dyn Method>>, String> {
@@ -36,10 +56,10 @@ pub fn variants(a: &AblateArgs) -> Result<Vec<Box<dyn Method>>, String> {
             let (m, _) = Grounding2Route::from_args(&a.llm, &lower, &cache)?;
             out.push(named(format!("cag-r{k}"), Box::new(m)));
         }
-        let (setup, _) = variant_setup(&a.llm, &a.baseline, &cache)?;
-        let mut s = schema::Schema::new(Arc::new(setup), k);
-        s.name = format!("schema-r{k}");
-        out.push(Box::new(s));
+        for (prefix, make) in VARIANTS {
+            let (setup, _) = variant_setup(&a.llm, &a.baseline, &cache)?;
+            out.push(named(format!("{prefix}-r{k}"), make(Arc::new(setup), k)));
+        }
         if gold {
             // Gold replies are the same in every round: one row says the ceiling.
             break;

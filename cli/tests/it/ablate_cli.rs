@@ -94,8 +94,8 @@ fn repair_rounds_without_a_model_says_what_it_needs() {
     assert!(!err.contains("panicked"), "{err}");
 }
 
-/// `ablate grounding`: CaG and Schema rows one-shot and with R, on one reply cache; with gold
-/// replies, each representation's ceiling, labelled.
+/// `ablate grounding`: CaG, Schema, Direct ID and catalog-LTL rows one-shot and with R, on one
+/// reply cache; with gold replies, each representation's ceiling, labelled.
 #[test]
 fn grounding_runs_cag_and_schema_rows_on_one_reply_cache() {
     let tmp = tempfile::tempdir().unwrap();
@@ -113,13 +113,24 @@ fn grounding_runs_cag_and_schema_rows_on_one_reply_cache() {
         "2",
     ];
     let r = m2rc(&args, tmp.path()).expect(0);
-    for row in ["cag-r0", "cag-r2", "schema-r0", "schema-r2"] {
+    for row in [
+        "cag-r0",
+        "cag-r2",
+        "schema-r0",
+        "schema-r2",
+        "directid-r0",
+        "directid-r2",
+        "catalog-ltl-r0",
+        "catalog-ltl-r2",
+    ] {
         assert!(r.stdout.contains(row), "{row} missing:\n{}", r.stdout);
     }
     let dir = tmp.path().join("g/grounding");
     assert!(dir.join("llm-cache").is_dir(), "one reply cache");
     let schema = read_json(&dir.join("schema-r2/run.json"));
     assert_eq!(schema["method_config"]["repair_rounds"], 2, "{schema}");
+    let ids = read_json(&dir.join("directid-r2/run.json"));
+    assert_eq!(ids["method_config"]["repair_rounds"], 2, "{ids}");
     let gold = m2rc(
         &[
             "ablate",
@@ -134,7 +145,7 @@ fn grounding_runs_cag_and_schema_rows_on_one_reply_cache() {
         tmp.path(),
     )
     .expect(0);
-    for row in ["cag-gold", "schema-r0"] {
+    for row in ["cag-gold", "schema-r0", "directid-r0", "catalog-ltl-r0"] {
         assert!(gold.stdout.contains(row), "{row} missing:\n{}", gold.stdout);
     }
     assert!(!gold.stdout.contains("schema-r3"), "{}", gold.stdout);
