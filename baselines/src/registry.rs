@@ -35,10 +35,16 @@ pub const BASELINES: &[Baseline] = &[
 
 /// The ablation table's grounding variants (issue 31): built like baselines, but not rows of
 /// Table I, so `bench table1` does not run them.
-pub const GROUNDING_VARIANTS: &[Baseline] = &[Baseline::new(
-    crate::grounding::schema::NAME,
-    crate::grounding::schema::make,
-)];
+pub const GROUNDING_VARIANTS: &[Baseline] = &[
+    Baseline::new(
+        crate::grounding::schema::NAME,
+        crate::grounding::schema::make,
+    ),
+    Baseline::new(
+        crate::grounding::toolcall::NAME,
+        crate::grounding::toolcall::make,
+    ),
+];
 
 fn every_method() -> impl Iterator<Item = &'static Baseline> {
     BASELINES.iter().chain(GROUNDING_VARIANTS)

@@ -12,3 +12,4 @@ mod osgllm;
 mod planners;
 mod sayplan_loop;
 mod support;
+mod toolcall;
