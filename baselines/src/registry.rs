@@ -48,6 +48,10 @@ pub const GROUNDING_VARIANTS: &[Baseline] = &[
         crate::grounding::directid::ltl::NAME,
         crate::grounding::directid::ltl::make,
     ),
+    Baseline::new(
+        crate::grounding::toolcall::NAME,
+        crate::grounding::toolcall::make,
+    ),
 ];
 
 /// The methods that ground by text similarity, so their runs say where embeddings came from.

@@ -13,6 +13,7 @@ pub mod resolve;
 mod scopecheck;
 mod slot;
 pub mod suggest;
+pub mod tools;
 mod typecheck;
 pub use check::{CheckResult, check};
 pub mod lsp;

@@ -133,15 +133,63 @@ impl ChatModel for Exchange<'_> {
             f.temperature(),
             f.max_tokens(),
         );
-        let key = cache_key(&body, &f.key_extra(request));
+        let (response, latency) = self.exchange(request, &body)?;
+        let reply = parse_completion(&response, latency).map_err(|e| {
+            self.store.count(|s| s.failed += 1);
+            ChatError::Failed(format!("{}: {e}", request.custom_id))
+        })?;
+        self.store.admit(request, reply)
+    }
+}
+
+impl Exchange<'_> {
+    /// One function-calling turn: `messages` (the whole conversation so far, as the wire carries
+    /// it) and `tools` go into the body, so the cache key and the batch file cover both.
+    pub fn complete_tools(
+        &self,
+        custom_id: &str,
+        messages: &[Value],
+        tools: &[Value],
+    ) -> Result<crate::tools::ToolReply, ChatError> {
+        let f = self.fetch;
+        let body = crate::tools::tool_request_body(
+            f.model(),
+            messages,
+            tools,
+            f.temperature(),
+            f.max_tokens(),
+        );
+        let request = ChatRequest {
+            custom_id: custom_id.to_string(),
+            messages: Vec::new(),
+        };
+        let (response, latency) = self.exchange(&request, &body)?;
+        let parsed = parse_completion(&response, latency)
+            .and_then(|reply| Ok((reply, crate::tools::parse_tool_calls(&response)?)));
+        let (reply, calls) = parsed.map_err(|e| {
+            self.store.count(|s| s.failed += 1);
+            ChatError::Failed(format!("{custom_id}: {e}"))
+        })?;
+        let reply = self.store.admit(&request, reply)?;
+        Ok(crate::tools::ToolReply {
+            reply,
+            tool_calls: calls,
+        })
+    }
+
+    /// The response body for `body`: from the cache; else written to the batch file (pending);
+    /// else, unless cache-only, fetched and cached before it is used.
+    fn exchange(&self, request: &ChatRequest, body: &Value) -> Result<(Value, f64), ChatError> {
+        let f = self.fetch;
+        let key = cache_key(body, &f.key_extra(request));
         let store = self.store;
         if let Some(cache) = &store.cache
             && let Some((response, latency)) = cache.get(&key)
         {
             match parse_completion(&response, latency) {
-                Ok(reply) => {
+                Ok(_) => {
                     store.count(|s| s.cache_hits += 1);
-                    return store.admit(request, reply);
+                    return Ok((response, latency));
                 }
                 Err(_) => store.count(|s| s.corrupt_cache_entries += 1),
             }
@@ -149,7 +197,7 @@ impl ChatModel for Exchange<'_> {
         if let (Some(batch), Some(cache)) = (&store.batch, &store.cache) {
             let recorded = cache
                 .put_pending(&request.custom_id, &key, f.model())
-                .and_then(|()| batch.add(&export_id(&request.custom_id, &key), &body));
+                .and_then(|()| batch.add(&export_id(&request.custom_id, &key), body));
             return match recorded {
                 Ok(()) => {
                     store.count(|s| s.pending += 1);
@@ -171,17 +219,17 @@ impl ChatModel for Exchange<'_> {
                 request.custom_id
             )));
         }
-        let fetched = match f.fetch(request, &body) {
+        let fetched = match f.fetch(request, body) {
             Ok(x) => x,
             Err(e) => {
                 store.count(|s| s.failed += 1);
                 return Err(e);
             }
         };
-        let reply = parse_completion(&fetched.response, fetched.latency_ms).map_err(|e| {
+        if let Err(e) = parse_completion(&fetched.response, fetched.latency_ms) {
             store.count(|s| s.failed += 1);
-            ChatError::Failed(format!("{}: {e}", request.custom_id))
-        })?;
+            return Err(ChatError::Failed(format!("{}: {e}", request.custom_id)));
+        }
         if let Some(cache) = &store.cache {
             // A cache that cannot be written costs a refetch next time, not this episode.
             let _ = cache.put(
@@ -192,6 +240,6 @@ impl ChatModel for Exchange<'_> {
             );
         }
         store.count(|s| s.fetched += 1);
-        store.admit(request, reply)
+        Ok((fetched.response, fetched.latency_ms))
     }
 }

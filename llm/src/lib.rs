@@ -18,6 +18,7 @@ pub mod config;
 pub mod embeddings;
 pub mod exchange;
 pub mod simulated;
+pub mod tools;
 pub mod wire;
 
 pub use args::{LlmArgs, LowerArgs};
@@ -28,3 +29,4 @@ pub use config::{ApiKey, Backend, LlmConfig, SimulatedSpec};
 pub use embeddings::{EmbedReply, embed};
 pub use exchange::{Exchange, ExchangeStats, Fetch, Fetched, Store};
 pub use simulated::SimulatedModel;
+pub use tools::{ToolCall, ToolReply};

@@ -1,6 +1,8 @@
 //! The ablation table's grounding variants (issue 31): the same compiler, RouteIR and planner as
 //! `grounding2route` (CaG), only the representation the model writes differs.
 //!
+//! * [`toolcall`]: the built-in queries as function-calling tools with opaque handles and the
+//!   RouteIR builders (`m2rc_compiler::tools`), in a conversation with the reference's budgets.
 //! * [`schema`]: a JSON intent graph over operators generated from the built-in table
 //!   (`m2rc_compiler::intent`), compiled deterministically to `.m2r`; its diagnostics point into
 //!   the graph, so the same repair loop runs on it.
@@ -16,6 +18,7 @@
 pub mod directid;
 pub mod schema;
 pub mod simulated;
+pub mod toolcall;
 
 use crate::calls::{GOLD_LABEL, ModelSetup};
 use m2rc_compiler::lower::{ChatError, ChatModel, ChatReply, ChatRequest, Usage, estimate_tokens};

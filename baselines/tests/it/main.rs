@@ -13,3 +13,4 @@ mod osgllm;
 mod planners;
 mod sayplan_loop;
 mod support;
+mod toolcall;

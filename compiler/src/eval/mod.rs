@@ -80,53 +80,92 @@ fn ground_with(
     q: &MapQuery,
     opts: &GroundOptions,
 ) -> Grounded {
-    let Some(start) = resolve_start(q, opts.start) else {
-        let p = Problem::error(
-            codes::NO_START,
-            Span::new(0, 0),
-            match opts.start.or(q.map().start) {
-                Some(c) => format!(
-                    "the start cell [{}, {}] is not traversable and no free cell is near it",
-                    c.row, c.col
-                ),
-                None => format!("map `{}` has no start position", q.map().map_id),
-            },
-        )
-        .help("give a start cell (`--start-cell row,col` or `--start x,y` in metres) on a free cell of the map");
-        return Grounded {
-            ir: None,
-            problems: vec![p],
-        };
-    };
-    let start_place = PlaceVal::Region(Rc::new(Region {
-        cells: vec![start],
-        construction: Construction {
-            kind: "start".into(),
-            from: vec![],
-            radius_m: None,
-        },
-        label: "start".into(),
-    }));
-    let mut g = Grounder {
-        q,
-        source,
-        route: opts.route.as_deref(),
-        problems: start_moved(q, opts.start, start).into_iter().collect(),
-        scopes: Vec::new(),
-        start: start_place.clone(),
-        here: start_place,
-        stage_target: None,
-        bindings: Vec::new(),
-        travel: Vec::new(),
-        resolutions,
-        memo: memo::Memo::default(),
-        reached: Vec::new(),
+    let (mut g, start) = match Grounder::start(q, resolutions, source, opts) {
+        Ok(x) => x,
+        Err(p) => {
+            return Grounded {
+                ir: None,
+                problems: vec![*p],
+            };
+        }
     };
     let ir = g.program(program, start);
     let failed = g.problems.iter().any(Problem::is_error);
     Grounded {
         ir: if failed { None } else { Some(ir) },
         problems: g.problems,
+    }
+}
+
+/// Evaluates only the top-level `let` bindings of a checked program, in order: each one's value
+/// and every finding. A tool call (`crate::tools`) is answered this way, so a query means exactly
+/// what the same expression means in a program.
+pub fn evaluate_lets(
+    checked: &CheckResult,
+    source: &str,
+    q: &MapQuery,
+    opts: &GroundOptions,
+) -> (Vec<(String, Value)>, Vec<Problem>) {
+    let (mut g, _) = match Grounder::start(q, Some(&checked.resolutions), source, opts) {
+        Ok(x) => x,
+        Err(p) => return (Vec::new(), vec![*p]),
+    };
+    for item in &checked.program.items {
+        if let m2rc_grammar::ast::Item::Let(l) = item {
+            let v = g.eval(&l.value);
+            g.scopes.push((l.name.name.clone(), v));
+        }
+    }
+    (g.scopes, g.problems)
+}
+
+impl<'q, 'm> Grounder<'q, 'm> {
+    /// A grounder at the start of a program, or why the start is unusable.
+    fn start(
+        q: &'q MapQuery<'m>,
+        resolutions: Option<&'q HashMap<Span, Resolution>>,
+        source: &'q str,
+        opts: &'q GroundOptions,
+    ) -> Result<(Self, Cell), Box<Problem>> {
+        let Some(start) = resolve_start(q, opts.start) else {
+            return Err(Box::new(Problem::error(
+                codes::NO_START,
+                Span::new(0, 0),
+                match opts.start.or(q.map().start) {
+                    Some(c) => format!(
+                        "the start cell [{}, {}] is not traversable and no free cell is near it",
+                        c.row, c.col
+                    ),
+                    None => format!("map `{}` has no start position", q.map().map_id),
+                },
+            )
+            .help("give a start cell (`--start-cell row,col` or `--start x,y` in metres) on a free cell of the map")));
+        };
+        let start_place = PlaceVal::Region(Rc::new(Region {
+            cells: vec![start],
+            construction: Construction {
+                kind: "start".into(),
+                from: vec![],
+                radius_m: None,
+            },
+            label: "start".into(),
+        }));
+        let g = Grounder {
+            q,
+            source,
+            route: opts.route.as_deref(),
+            problems: start_moved(q, opts.start, start).into_iter().collect(),
+            scopes: Vec::new(),
+            start: start_place.clone(),
+            here: start_place,
+            stage_target: None,
+            bindings: Vec::new(),
+            travel: Vec::new(),
+            resolutions,
+            memo: memo::Memo::default(),
+            reached: Vec::new(),
+        };
+        Ok((g, start))
     }
 }
 
