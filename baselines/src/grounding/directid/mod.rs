@@ -226,11 +226,14 @@ impl Method for CatalogIds {
                 let write =
                     |v: &Value| serde_json::to_string(&(form.write)(v).0).unwrap_or_default();
                 let g = gold.as_ref().map_or(Value::Null, |g| g.reply.clone());
+                // Seeded by the episode, not the form: Direct ID and catalog-LTL make the same
+                // faults, so their rows differ only by the representation.
+                let episode_key = key.trim_end_matches(form.name);
                 let (first, f) = faults::first_answer(
                     &g,
                     spec.fault_rate,
                     spec.seed,
-                    &key,
+                    episode_key,
                     largest_id(&q),
                     &write,
                 );
