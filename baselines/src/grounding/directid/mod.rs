@@ -104,7 +104,18 @@ pub fn gold_reply(
             d.first().map_or(String::new(), |d| d.message.clone())
         )
     })?;
-    Ok(gold::gold_ids(&compiled.ir, q))
+    let mut g = gold::gold_ids(&compiled.ir, q);
+    // What the ids cannot say and no place shows (a shape's `until`): the rebuilt route differs.
+    if g.lossy.is_empty()
+        && let Ok(v) = validate::validate(&g.reply, q)
+        && let Ok(ir) = build::build(&v, q, start)
+        && !gold::same_route(&ir, &compiled.ir)
+    {
+        g.lossy.push(
+            "the ids rebuild a different RouteIR (a shape's until, passing or avoiding)".into(),
+        );
+    }
+    Ok(g)
 }
 
 /// Reads, validates, builds and plans one reply.
