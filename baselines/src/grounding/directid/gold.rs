@@ -214,3 +214,30 @@ fn constraint(c: &m2rc_compiler::ir::Constraint, index: &BTreeMap<String, Ref>) 
         ConstraintKind::Clearance { .. } => None,
     }
 }
+
+/// Whether two RouteIRs ask for the same route: stages, must-pass places and constraints, not
+/// where in a source they came from.
+pub fn same_route(a: &RouteIr, b: &RouteIr) -> bool {
+    let stages = |ir: &RouteIr| -> Vec<_> {
+        ir.stages
+            .iter()
+            .map(|s| {
+                let passes: Vec<_> = s.passes.iter().map(|p| p.place.clone()).collect();
+                (s.name.clone(), s.target.clone(), passes)
+            })
+            .collect()
+    };
+    let constraints = |ir: &RouteIr| -> Vec<_> {
+        ir.constraints
+            .iter()
+            .map(|c| {
+                (
+                    c.kind.clone(),
+                    c.stage_scope.clone(),
+                    c.spatial_scope.clone(),
+                )
+            })
+            .collect()
+    };
+    a.start == b.start && stages(a) == stages(b) && constraints(a) == constraints(b)
+}

@@ -219,6 +219,9 @@ pub fn validate(reply: &Value, q: &MapQuery) -> Result<Grounding, Vec<GraphDiagn
     };
     keys_known(&mut c, reply, "", &["segments", "constraints"]);
     let mut segments: Vec<(String, Ref)> = Vec::new();
+    // Every well-named segment, also those whose target is wrong: a constraint naming one is
+    // not a second error.
+    let mut names: Vec<String> = Vec::new();
     match reply.get("segments").and_then(Value::as_array) {
         Some(items) if !items.is_empty() => {
             for (i, s) in items.iter().enumerate() {
@@ -235,13 +238,14 @@ pub fn validate(reply: &Value, q: &MapQuery) -> Result<Grounding, Vec<GraphDiagn
                         continue;
                     }
                 };
-                if segments.iter().any(|(n, _)| *n == id) {
+                if names.contains(&id) {
                     c.err(shape(
                         &format!("{p}/id"),
                         format!("segment id `{id}` is used twice"),
                         None,
                     ));
                 }
+                names.push(id.clone());
                 let target = s.get("target_id").unwrap_or(&Value::Null);
                 if let Some(r) = c.id(
                     target,
@@ -264,7 +268,7 @@ pub fn validate(reply: &Value, q: &MapQuery) -> Result<Grounding, Vec<GraphDiagn
         None | Some(Value::Null) => {}
         Some(Value::Array(items)) => {
             for (i, v) in items.iter().enumerate() {
-                if let Some(k) = constraint(&mut c, v, &format!("/constraints/{i}"), &segments) {
+                if let Some(k) = constraint(&mut c, v, &format!("/constraints/{i}"), &names) {
                     constraints.push(k);
                 }
             }
@@ -303,12 +307,7 @@ fn arity(c: &mut Check, p: &str, kind: &str, n: usize, lo: usize, hi: usize) -> 
     false
 }
 
-fn constraint(
-    c: &mut Check,
-    v: &Value,
-    p: &str,
-    segments: &[(String, Ref)],
-) -> Option<IdConstraint> {
+fn constraint(c: &mut Check, v: &Value, p: &str, segments: &[String]) -> Option<IdConstraint> {
     keys_known(
         c,
         v,
@@ -422,11 +421,11 @@ fn constraint(
             for (i, s) in items.iter().enumerate() {
                 match s
                     .as_str()
-                    .and_then(|s| segments.iter().position(|(n, _)| n == s))
+                    .and_then(|s| segments.iter().position(|n| n == s))
                 {
                     Some(k) => idx.push(k),
                     None => {
-                        let names: Vec<&str> = segments.iter().map(|(n, _)| n.as_str()).collect();
+                        let names: Vec<&str> = segments.iter().map(String::as_str).collect();
                         c.err(shape(
                             &format!("{p}/segment_ids/{i}"),
                             format!("{s} is not the id of a segment"),
