@@ -17,6 +17,11 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::Value;
 
+/// The version of the simulated model's replies, part of every cache key: bump it whenever the
+/// fault classes or the repairer change, so a cache never serves replies the current code would
+/// not give (a stale cache would silently mix two models in one table).
+pub const SIMULATED_REPLIES_VERSION: u32 = 2;
+
 pub struct SimulatedModel {
     spec: SimulatedSpec,
     name: String,
@@ -83,7 +88,10 @@ impl Fetch for SimulatedModel {
     }
 
     fn key_extra(&self, _request: &ChatRequest) -> String {
-        format!("simulated episode {}", self.episode)
+        format!(
+            "simulated v{SIMULATED_REPLIES_VERSION} episode {}",
+            self.episode
+        )
     }
 
     fn fetch(&self, request: &ChatRequest, _body: &Value) -> Result<Fetched, ChatError> {

@@ -101,6 +101,10 @@ struct GoldOracle {
     temperature: f64,
 }
 
+/// The version of the gold oracles' replies, part of every cache key: bump it whenever an oracle
+/// changes what it answers, so a cached ceiling is never one the current code would not reach.
+pub const GOLD_REPLIES_VERSION: u32 = 1;
+
 /// The model name under which gold replies are cached.
 pub const GOLD_MODEL: &str = "m2rc-gold-oracle";
 
@@ -115,7 +119,7 @@ impl Fetch for GoldOracle {
         None
     }
     fn key_extra(&self, _request: &ChatRequest) -> String {
-        "gold".into()
+        format!("gold v{GOLD_REPLIES_VERSION}")
     }
     fn fetch(&self, request: &ChatRequest, _body: &Value) -> Result<Fetched, ChatError> {
         let text = self.reply.as_ref().ok_or_else(|| {

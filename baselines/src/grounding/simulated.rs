@@ -163,7 +163,12 @@ impl Fetch for SimulatedJson {
     }
 
     fn key_extra(&self, _request: &ChatRequest) -> String {
-        format!("simulated {} episode {}", self.variant, self.episode)
+        format!(
+            "simulated v{} {} episode {}",
+            m2rc_llm::simulated::SIMULATED_REPLIES_VERSION,
+            self.variant,
+            self.episode
+        )
     }
 
     fn fetch(&self, request: &ChatRequest, _body: &Value) -> Result<Fetched, ChatError> {
