@@ -6,7 +6,7 @@
 
 use super::ablate::AblateArgs;
 use anyhow::Result;
-use m2rc_baselines::grounding::{schema, variant_setup};
+use m2rc_baselines::grounding::{schema, toolcall, variant_setup};
 use m2rc_benchmark::ablate::{AblateOptions, named, run_variants};
 use m2rc_benchmark::methods::{Method, grounding2route::Grounding2Route, method_by_name};
 use m2rc_llm::Backend;
@@ -14,7 +14,8 @@ use std::sync::Arc;
 
 pub const DESCRIPTION: &str = "the same compiler, RouteIR and planner, grounded from different \
 representations: CaG (the model writes `.m2r`), Schema (a JSON intent graph over operators \
-generated from the built-in table, compiled to `.m2r`); `-r0` rows are one-shot (the reference's \
+generated from the built-in table, compiled to `.m2r`), ToolCall (the same built-ins as \
+function calls over opaque handles, one-shot; not run with the simulated model); `-r0` rows are one-shot (the reference's \
 code), `-rR` rows repair up to R rounds (the reference's table). With `--llm gold` each row is its \
 representation's ceiling ([GOLD replies]; CaG's is the gold program, the `oracle` method)";
 
@@ -44,6 +45,11 @@ pub fn variants(a: &AblateArgs) -> Result<Vec<Box<dyn Method>>, String> {
             // Gold replies are the same in every round: one row says the ceiling.
             break;
         }
+    }
+    // ToolCall runs one-shot whatever R, as the reference's code does (no simulated form).
+    if !matches!(a.llm.backend, Backend::Simulated(_)) {
+        let (setup, _) = variant_setup(&a.llm, &a.baseline, &cache)?;
+        out.push(named("toolcall-r0", toolcall::make(Arc::new(setup))));
     }
     Ok(out)
 }
