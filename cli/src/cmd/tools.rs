@@ -144,6 +144,8 @@ impl<'m> Server<'m> {
         let mut content = out.content;
         if let Some(done) = self.session.finished.clone() {
             content["program"] = json!(done.program);
+            // The next route starts from a fresh session, whether this one planned or not.
+            self.session = ToolSession::new(self.map, self.start, self.limits);
             match self.plan(&done.program) {
                 Ok(route) => content["route"] = route,
                 Err(e) => {
@@ -151,8 +153,6 @@ impl<'m> Server<'m> {
                     return tool_result(content, true);
                 }
             }
-            // The next route starts from a fresh session.
-            self.session = ToolSession::new(self.map, self.start, self.limits);
         }
         tool_result(content, !out.ok)
     }
