@@ -53,6 +53,8 @@ enum Command {
     Ablate(cmd::ablate::AblateArgs),
     /// Serve routes over HTTP: POST /route with a .m2r program, GET /map (docs/serve.md).
     Serve(cmd::serve::ServeArgs),
+    /// Serve m2rc's semantic queries as MCP tools over stdio, for an external agent (docs/tools.md).
+    Tools(cmd::tools::ToolsArgs),
     /// Turn an LTLf formula into its minimal automaton (JSON, HOA, DOT).
     Ltl(cmd::ltl::LtlArgs),
     /// Inspect the Table I baselines (`explain`: every step of one instruction).
@@ -78,6 +80,7 @@ fn main() -> ExitCode {
         Command::Ltl(a) => cmd::ltl::run(a),
         Command::Baseline(c) => cmd::baseline::run(c),
         Command::Serve(a) => cmd::serve::run(a),
+        Command::Tools(a) => cmd::tools::run(a),
     };
     match result {
         Ok(code) => code,

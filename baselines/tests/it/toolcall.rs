@@ -296,3 +296,128 @@ fn each_turn_is_a_batch_round_and_the_lines_carry_the_tools() {
     }
     assert_eq!(status, "ok");
 }
+
+/// The figure of issue 31's benchmark (not a test; `cargo test -p m2rc-baselines --test it
+/// toolcall_overhead -- --ignored --nocapture`): the gold conversations replayed by a mock
+/// server into a cache, then re-run from the cache alone; m2rc's own cost per turn (cache look-up,
+/// reply parsing, the tool calls' evaluation), and the tool list's estimated prompt tokens.
+#[test]
+#[ignore]
+fn toolcall_overhead_per_turn_with_cached_replies() {
+    let tmp = tempfile::tempdir().unwrap();
+    let suite = tmp.path().join("suite");
+    let m = build(&suite, 12);
+    let gold = tmp.path().join("gold");
+    let started = std::time::Instant::now();
+    runner::run(
+        &ToolCallMethod::new(Arc::new(gold_setup())),
+        &opts(&suite, &gold),
+    )
+    .unwrap();
+    let gold_s = started.elapsed().as_secs_f64();
+    // Each episode's gold turns, by the instruction the user message carries.
+    let episodes: Vec<Value> = read_records(&gold).unwrap();
+    let mut script: std::collections::BTreeMap<String, Vec<Value>> = Default::default();
+    let text: std::collections::BTreeMap<String, String> = m
+        .episodes
+        .iter()
+        .map(|e| {
+            let ep: Value =
+                serde_json::from_str(&std::fs::read_to_string(suite.join(&e.file)).unwrap())
+                    .unwrap();
+            (
+                e.instruction_id.clone(),
+                ep["instruction"].as_str().unwrap_or_default().to_string(),
+            )
+        })
+        .collect();
+    for r in &episodes {
+        let calls = r["toolcall"]["calls"].as_array().unwrap();
+        let mut turns: Vec<Vec<(String, Value)>> = Vec::new();
+        for c in calls {
+            let t = c["turn"].as_u64().unwrap() as usize;
+            if turns.len() <= t {
+                turns.resize(t + 1, Vec::new());
+            }
+            let args: Value = serde_json::from_str(c["arguments"].as_str().unwrap()).unwrap();
+            turns[t].push((c["name"].as_str().unwrap().to_string(), args));
+        }
+        let replies = turns
+            .iter()
+            .map(|t| {
+                let list: Vec<(&str, Value)> =
+                    t.iter().map(|(n, a)| (n.as_str(), a.clone())).collect();
+                calls_reply(&list)
+            })
+            .collect();
+        script.insert(r["instruction_id"].as_str().unwrap().to_string(), replies);
+    }
+    let by_instruction: std::collections::BTreeMap<String, Vec<Value>> = episodes
+        .iter()
+        .map(|r| {
+            let id = r["instruction_id"].as_str().unwrap();
+            (text[id].clone(), script[id].clone())
+        })
+        .collect();
+    let mut server = mockito::Server::new();
+    let _m = server
+        .mock("POST", "/v1/chat/completions")
+        .with_body_from_request(move |req| {
+            let body: Value = serde_json::from_slice(req.body().unwrap()).unwrap();
+            let msgs = body["messages"].as_array().unwrap();
+            let user = msgs[1]["content"].as_str().unwrap();
+            let turn = msgs.iter().filter(|m| m["role"] == "assistant").count();
+            let replies = by_instruction
+                .iter()
+                .find(|(k, _)| user.contains(k.as_str()))
+                .map(|(_, v)| v)
+                .unwrap();
+            replies
+                .get(turn)
+                .cloned()
+                .unwrap_or_else(|| completion("done"))
+                .to_string()
+                .into_bytes()
+        })
+        .create();
+    let cache = tmp.path().join("cache");
+    let mut setup = server_setup(&server.url(), &cache, None);
+    setup.embed_http = None;
+    runner::run(
+        &ToolCallMethod::new(Arc::new(setup)),
+        &opts(&suite, &tmp.path().join("fill")),
+    )
+    .unwrap();
+    let mut offline = server_setup("http://127.0.0.1:9", &cache, None);
+    offline.embed_http = None;
+    offline.store = m2rc_llm::Store::new(Some(ResponseCache::new(&cache)), None, true);
+    let out = tmp.path().join("cached");
+    let started = std::time::Instant::now();
+    runner::run(&ToolCallMethod::new(Arc::new(offline)), &opts(&suite, &out)).unwrap();
+    let cached_s = started.elapsed().as_secs_f64();
+    let recs = read_records(&out).unwrap();
+    let turns: u64 = recs
+        .iter()
+        .map(|r| r["toolcall"]["turns"].as_u64().unwrap_or(0))
+        .sum();
+    let calls: u64 = recs
+        .iter()
+        .map(|r| r["toolcall"]["tool_calls"].as_u64().unwrap_or(0))
+        .sum();
+    let ok = recs.iter().filter(|r| r["status"] == "ok").count();
+    println!(
+        "episodes {} (ok {ok}), turns {turns}, tool calls {calls}; gold run {:.2} s; cached run {:.2} s \
+         = {:.1} ms per turn, {:.1} ms per episode (planning included); tool list ~{} tokens",
+        recs.len(),
+        gold_s,
+        cached_s,
+        cached_s * 1e3 / turns.max(1) as f64,
+        cached_s * 1e3 / recs.len().max(1) as f64,
+        m2rc_baselines::grounding::toolcall::tools_estimated_tokens()
+    );
+    assert_eq!(recs.len(), episodes.len());
+}
+
+fn calls_reply(list: &[(&str, Value)]) -> Value {
+    calls(list)
+}

@@ -8,7 +8,7 @@ use super::ablate::AblateArgs;
 use anyhow::Result;
 use m2rc_baselines::calls::ModelSetup;
 use m2rc_baselines::grounding::directid::{CatalogIds, DIRECT_ID, ltl};
-use m2rc_baselines::grounding::{schema, variant_setup};
+use m2rc_baselines::grounding::{schema, toolcall, variant_setup};
 use m2rc_benchmark::ablate::{AblateOptions, named, run_variants};
 use m2rc_benchmark::methods::{Method, grounding2route::Grounding2Route, method_by_name};
 use m2rc_llm::Backend;
@@ -19,7 +19,8 @@ representations: CaG (the model writes `.m2r`), Schema (a JSON intent graph over
 generated from the built-in table, compiled to `.m2r`), Direct ID (catalog ids picked from a compact \
 catalog of the map, built into RouteIR), catalog-LTL (the same ids under a restricted LTL skeleton, \
 through the Direct ID path; not the `gold+ltl`/`llm+ltl` rows, which plan `.m2r` with the LTL \
-backend); `-r0` rows are one-shot (the reference's \
+backend), ToolCall (the same built-ins as \
+function calls over opaque handles, one-shot; not run with the simulated model); `-r0` rows are one-shot (the reference's \
 code), `-rR` rows repair up to R rounds (the reference's table). With `--llm gold` each row is its \
 representation's ceiling ([GOLD replies]; CaG's is the gold program, the `oracle` method)";
 
@@ -32,7 +33,6 @@ const VARIANTS: &[Variant] = &[
     ("directid", |s, k| {
         Box::new(CatalogIds::new(s, k, &DIRECT_ID))
     }),
-    // ToolCall's row goes here (branch `toolcall`): one entry ("toolcall", |s, k| ...).
     ("catalog-ltl", |s, k| {
         Box::new(CatalogIds::new(s, k, &ltl::FORM))
     }),
@@ -64,6 +64,11 @@ pub fn variants(a: &AblateArgs) -> Result<Vec<Box<dyn Method>>, String> {
             // Gold replies are the same in every round: one row says the ceiling.
             break;
         }
+    }
+    // ToolCall runs one-shot whatever R, as the reference's code does (no simulated form).
+    if !matches!(a.llm.backend, Backend::Simulated(_)) {
+        let (setup, _) = variant_setup(&a.llm, &a.baseline, &cache)?;
+        out.push(named("toolcall-r0", toolcall::make(Arc::new(setup))));
     }
     Ok(out)
 }

@@ -20,3 +20,4 @@ pub mod run;
 pub mod serve;
 pub mod serve_route;
 pub mod suite;
+pub mod tools;

@@ -95,7 +95,7 @@ fn repair_rounds_without_a_model_says_what_it_needs() {
 }
 
 /// `ablate grounding`: CaG, Schema, Direct ID and catalog-LTL rows one-shot and with R, on one
-/// reply cache; with gold replies, each representation's ceiling, labelled.
+/// reply cache; with gold replies, each representation's ceiling (ToolCall's too), labelled.
 #[test]
 fn grounding_runs_cag_and_schema_rows_on_one_reply_cache() {
     let tmp = tempfile::tempdir().unwrap();
@@ -125,6 +125,8 @@ fn grounding_runs_cag_and_schema_rows_on_one_reply_cache() {
     ] {
         assert!(r.stdout.contains(row), "{row} missing:\n{}", r.stdout);
     }
+    // ToolCall has no simulated form: its row is left out, not failed.
+    assert!(!r.stdout.contains("toolcall"), "{}", r.stdout);
     let dir = tmp.path().join("g/grounding");
     assert!(dir.join("llm-cache").is_dir(), "one reply cache");
     let schema = read_json(&dir.join("schema-r2/run.json"));
@@ -145,7 +147,13 @@ fn grounding_runs_cag_and_schema_rows_on_one_reply_cache() {
         tmp.path(),
     )
     .expect(0);
-    for row in ["cag-gold", "schema-r0", "directid-r0", "catalog-ltl-r0"] {
+    for row in [
+        "cag-gold",
+        "schema-r0",
+        "directid-r0",
+        "catalog-ltl-r0",
+        "toolcall-r0",
+    ] {
         assert!(gold.stdout.contains(row), "{row} missing:\n{}", gold.stdout);
     }
     assert!(!gold.stdout.contains("schema-r3"), "{}", gold.stdout);

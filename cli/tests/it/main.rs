@@ -23,4 +23,5 @@ mod robot_out;
 mod run_cli;
 mod serve_cli;
 mod table1_cli;
+mod tools_mcp;
 mod usability_cli;
