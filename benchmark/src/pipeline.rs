@@ -11,10 +11,11 @@
 use crate::plan_failure::FailedPlan;
 use m2rc_compiler::check::check;
 use m2rc_compiler::diagnostic::{Code, Diagnostic, Severity};
-use m2rc_compiler::eval::{GroundOptions, ground_checked};
+use m2rc_compiler::eval::{Chosen, GroundOptions, ground_checked};
 use m2rc_compiler::ir::{Constraint, RouteIr, Stage};
 use m2rc_compiler::verify::verify;
 use m2rc_grammar::ast::Span;
+use m2rc_planner::choice::reached_members;
 use m2rc_planner::context::MapContext;
 use m2rc_planner::lower::{lower_with, span_of};
 use m2rc_planner::{CostProfile, PlannedRoute, PlannerKind, plan};
@@ -159,6 +160,7 @@ fn compile(
     }
     let q = MapQuery::new(map);
     let mut route: Option<Vec<Cell>> = None;
+    let mut chosen: Vec<Chosen> = Vec::new();
     let mut last: Option<(RouteIr, PlannedRoute)> = None;
     let mut rounds = 0;
     let mut owned: Option<Result<MapContext, String>> = None;
@@ -170,6 +172,7 @@ fn compile(
             &GroundOptions {
                 start: opts.start,
                 route: route.take(),
+                chosen: std::mem::take(&mut chosen),
             },
         );
         let mut diags: Vec<Diagnostic> = g
@@ -282,6 +285,7 @@ fn compile(
             });
         }
         route = Some(planned.trajectory.clone());
+        chosen = reached_members(&problem, &planned);
         last = Some((ir, planned));
     }
 }

@@ -68,6 +68,7 @@ pub(crate) fn compile_ltl(
         &GroundOptions {
             start: opts.start,
             route: None,
+            ..Default::default()
         },
     );
     let diags: Vec<Diagnostic> = g

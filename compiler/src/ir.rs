@@ -174,6 +174,12 @@ pub enum PlaceKind {
     Region {
         construction: Construction,
     },
+    /// Any one of these places (`go S` / `pass S` on a set): the planner reaches whichever member
+    /// makes the route cheapest and records it as a route binding. The place's `cells` are the
+    /// members' union, for readers that only need the area.
+    AnyOf {
+        members: Vec<Place>,
+    },
 }
 
 /// How a region was built, for provenance and pictures.
@@ -192,7 +198,8 @@ pub struct Construction {
 /// The value of one route-dependent call, and the route it was read from.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RouteBinding {
-    /// `room_before_entering`, `doorway_leaving`, `doorway_entering`, `first_entered`.
+    /// `room_before_entering`, `doorway_leaving`, `doorway_entering`, `first_entered`; `go` or
+    /// `pass` for the member of a set the route reached.
     pub function: String,
     /// Label of the place it resolved to.
     pub resolved: String,

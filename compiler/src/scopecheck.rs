@@ -7,15 +7,13 @@ use crate::diagnostic::{Code, Diagnostic};
 use crate::resolve::{BindingKind, FrameKind};
 use crate::slot::Slot;
 use crate::suggest;
-use crate::typecheck::set_where_single;
 use m2rc_grammar::ast::{
     Constraint, ConstraintKind, ExprKind, ForStages, Item, Let, Program, Route, RouteItem, Scope,
     Span, Stage, StageItem,
 };
-use m2rc_stdlib::builtins::{Elem, Ty, Type};
+use m2rc_stdlib::builtins::{Elem, Ty, Type, statements};
 use m2rc_stdlib::vocab::{CategoryKind, Lookup};
 
-const PLACE: &[Ty] = &[Ty::PLACE];
 const PLACES: &[Ty] = &[Ty::PLACE, Ty::SET_PLACE];
 const PREFERENCE: &[Ty] = &[Ty::Is(Type::Preference)];
 
@@ -151,25 +149,23 @@ impl Checker<'_> {
     }
 
     fn stage(&mut self, s: &Stage) {
-        let ty = self.expr(&s.target, Slot::alts(PLACE));
-        if !Slot::alts(PLACE).accepts(ty) {
-            if ty.is_set() {
-                self.report(set_where_single(&s.target, ty, "Place"));
-            } else {
-                self.report(
-                    Diagnostic::new(
-                        Code::GoTargetNotPlace,
-                        s.target.span,
-                        format!("`go` needs a place (an Object, Room or Region), found `{ty}`"),
-                    )
-                    .help(match ty {
-                        Type::Preference => {
-                            "preferences go in the stage body: `go x { prefer ... }`"
-                        }
-                        _ => "write an object, room or region, e.g. `objects(bed).nearest()`",
-                    }),
-                );
-            }
+        // A set is "any one of them": the planner reaches the member cheapest by route.
+        let slot = self.operand_slot("go", &s.target);
+        let ty = self.expr(&s.target, slot);
+        if !slot.accepts(ty) {
+            self.report(
+                Diagnostic::new(
+                    Code::GoTargetNotPlace,
+                    s.target.span,
+                    format!(
+                        "`go` needs a place (an Object, Room or Region) or a set of places, found `{ty}`"
+                    ),
+                )
+                .help(match ty {
+                    Type::Preference => "preferences go in the stage body: `go x { prefer ... }`",
+                    _ => "write an object, room or region, e.g. `objects(bed).nearest()`",
+                }),
+            );
         }
         self.push_frame(FrameKind::Stage);
         let saved = self.ctx;
@@ -314,13 +310,10 @@ impl Checker<'_> {
                 self.report(d);
             }
             ConstraintKind::Pass | ConstraintKind::Avoid => {
-                let alts = if c.kind == ConstraintKind::Pass {
-                    PLACE
-                } else {
-                    PLACES
-                };
-                let ty = self.expr(v, Slot::alts(alts));
-                if Slot::alts(alts).accepts(ty) {
+                // `pass S` is any one member, `avoid S` every member.
+                let slot = self.operand_slot(word, v);
+                let ty = self.expr(v, slot);
+                if slot.accepts(ty) {
                     return;
                 }
                 if ty == Type::Preference {
@@ -352,24 +345,30 @@ impl Checker<'_> {
                             .suggest(c.kind_span, "prefer");
                     }
                     self.report(d);
-                } else if c.kind == ConstraintKind::Pass && ty.is_set() {
-                    self.report(set_where_single(v, ty, "Place"));
                 } else {
                     self.report(Diagnostic::new(
                         Code::ConstraintNotPlace,
                         v.span,
-                        format!(
-                            "`{word}` needs {}, found `{ty}`",
-                            if c.kind == ConstraintKind::Pass {
-                                "a place"
-                            } else {
-                                "a place or a set of places"
-                            }
-                        ),
+                        format!("`{word}` needs a place or a set of places, found `{ty}`"),
                     ));
                 }
             }
         }
+    }
+
+    /// The slot of a `go`/`pass`/`avoid` operand, from the statement table. A bare category word
+    /// after `go` or `pass` (`go kitchen`) names one thing, so it is read in a one-place slot and
+    /// its fix picks one (`.only()`, `.nearest()`) instead of offering the set, which would mean
+    /// "any kitchen".
+    fn operand_slot(&self, keyword: &str, e: &m2rc_grammar::ast::Expr) -> Slot {
+        if keyword != "avoid"
+            && let ExprKind::Name(id) = &e.kind
+            && self.peek_binding(&id.name).is_none()
+            && m2rc_stdlib::builtins::constant(&id.name).is_none()
+        {
+            return Slot::alts(&[Ty::PLACE]);
+        }
+        Slot::alts(statements::operand(keyword))
     }
 
     /// `prefer kitchen`: a bare category word where a preference goes. Reported as E0309 with

@@ -130,11 +130,25 @@ impl Checker<'_> {
             self.report(d);
             return;
         }
-        self.report(Diagnostic::new(
+        let mut d = Diagnostic::new(
             Code::TypeMismatch,
             e.span,
             format!("expected `{want}`, found `{actual}`"),
-        ));
+        );
+        // A room where only objects and regions fit (`next_to(kitchen)`): no other built-in says
+        // the same of a whole room, so the help names what the argument takes, nothing more.
+        let room = matches!(actual, Type::Room | Type::Set(Elem::Room));
+        if room && (slot.accepts(Type::Object) || slot.accepts(Type::Region)) {
+            let kinds = match (slot.accepts(Type::Object), slot.accepts(Type::Region)) {
+                (true, true) => "an object, or a region such as a corner, a doorway or an area",
+                (true, false) => "an object",
+                _ => "a region such as a corner, a doorway or an area",
+            };
+            d = d.help(format!(
+                "a room is not accepted here; this argument takes `{want}`: {kinds}"
+            ));
+        }
+        self.report(d);
     }
 
     fn string_literal(&mut self, e: &Expr, s: &str, slot: Slot) {

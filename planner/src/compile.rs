@@ -258,6 +258,7 @@ fn target_cells(t: &crate::problem::Target) -> Vec<m2rc_stdlib::grid::Cell> {
         Target::Position(c) => vec![*c],
         Target::Room(a) | Target::Region { cells: a, .. } => a.cells(),
         Target::Object { footprint, .. } => footprint.clone(),
+        Target::AnyOf(members) => members.iter().flat_map(target_cells).collect(),
     }
 }
 

@@ -56,7 +56,37 @@ pub fn goal_mask(
                 )
             }
         }
+        Target::AnyOf(members) => {
+            let mut m = vec![false; n * n];
+            for t in members {
+                let g = goal_mask(t, traversable, n, goal_radius_cells);
+                m.iter_mut().zip(&g).for_each(|(a, b)| *a |= *b);
+            }
+            m
+        }
     }
+}
+
+/// Which member of a set target (`Target::AnyOf`) a route that ended at `end` reached: the first,
+/// in the set's order, whose own goal holds `end`. `None` for other targets, or when no member's
+/// goal holds it.
+pub fn member_reached(
+    target: &Target,
+    end: Cell,
+    traversable: &[bool],
+    n: usize,
+    goal_radius_cells: f64,
+) -> Option<usize> {
+    let Target::AnyOf(members) = target else {
+        return None;
+    };
+    if end.row as usize >= n || end.col as usize >= n {
+        return None;
+    }
+    let at = end.row as usize * n + end.col as usize;
+    members
+        .iter()
+        .position(|t| goal_mask(t, traversable, n, goal_radius_cells)[at])
 }
 
 fn intersect(mut m: Vec<bool>, traversable: &[bool]) -> Vec<bool> {

@@ -8,6 +8,7 @@
 //! See `docs/planner.md` for the cost model, its defaults and where it departs from the reference.
 
 pub mod astar;
+pub mod choice;
 pub mod compile;
 pub mod context;
 pub mod costfield;

@@ -232,6 +232,7 @@ fn room_area_of(p: &Place, map: &SemanticMap, ctx: &MapContext) -> Option<Area> 
         PlaceKind::Region { .. } => {
             room_at(map, centroid(p.cells.cells())?).map(|r| room_mask(map, ctx, r))
         }
+        PlaceKind::AnyOf { .. } => None,
     }
 }
 
@@ -263,6 +264,9 @@ fn target_of(p: &Place, map: &SemanticMap, ctx: &MapContext) -> Target {
                 cells: area(p),
                 fallback,
             }
+        }
+        PlaceKind::AnyOf { members } => {
+            Target::AnyOf(members.iter().map(|m| target_of(m, map, ctx)).collect())
         }
     }
 }

@@ -103,6 +103,10 @@ pub enum Target {
         room: Option<Area>,
         center: [f64; 2],
     },
+    /// Any one of these targets (`go S` on a set): the goal is the union of the members' goals,
+    /// each under its own rule and fallback, so one search reaches whichever member is cheapest
+    /// by route, with the segment's constraints applied to every member alike.
+    AnyOf(Vec<Target>),
 }
 
 /// The replacement goal of a target whose own cells are unusable.

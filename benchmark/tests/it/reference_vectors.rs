@@ -650,3 +650,26 @@ fn v13_one_waypoint_can_complete_two_targets() {
     assert_eq!(m.segment_wise_spl, 1.0);
     assert_eq!(m.hcs, 1.0);
 }
+
+// ---------------------------------------------------------------- several candidate objects
+
+/// A target with several candidate objects is one must-pass region holding all of them (a freeform
+/// region painted over each, as an annotator draws "a box"): HCS completes at whichever member
+/// the route enters, and SPL's L* is the shortest legal path to the *nearest* member, so reaching a
+/// farther one completes the target at a lower SPL. `m2rc eval` scores a `go S` route exactly so.
+#[test]
+fn a_target_of_several_candidates_completes_at_any_member_and_spl_measures_the_nearest() {
+    let goal = json!({"constraint_id": "goal", "kind": "must_pass", "shape": "freeform",
+        "center": [2, 2], "order": 2, "cells": [[0, 2], [4, 4]],
+        "scope": {"type": "global", "from_order": null, "to_order": null}});
+    let ep = episode(vec![pass("record", 0, 0, 1), goal], vec![]);
+    let far = eval(&[[0, 0], [1, 1], [2, 2], [3, 3], [4, 4]], &ep, &free_map());
+    assert_eq!(far.hcs, 1.0);
+    let s = &far.details.segments[0];
+    assert_eq!(s.status, "completed");
+    assert_close(s.l_star.unwrap(), 2.0);
+    assert_close(s.l.unwrap(), 4.0 * 2f64.sqrt());
+    assert_close(far.segment_wise_spl, 2.0 / (4.0 * 2f64.sqrt()));
+    let near = eval(&[[0, 0], [0, 1], [0, 2]], &ep, &free_map());
+    assert_eq!((near.hcs, near.segment_wise_spl), (1.0, 1.0));
+}

@@ -32,13 +32,15 @@ fn run_lowers_repairs_and_plans_against_a_mock_server() {
     let first = server
         .mock("POST", "/v1/chat/completions")
         .match_header("authorization", format!("Bearer {KEY}").as_str())
-        .with_body(reply("route {\n  go objects(bedd)\n}\n"))
+        .with_body(reply("route {\n  go area_near(objects(bedd))\n}\n"))
         .expect(1)
         .create();
     let second = server
         .mock("POST", "/v1/chat/completions")
         .match_body(mockito::Matcher::Regex("E02|E01|E04".into()))
-        .with_body(reply("route {\n  go objects(bed).nearest(start)\n}\n"))
+        .with_body(reply(
+            "route {\n  go area_near(objects(bed).nearest(start))\n}\n",
+        ))
         .expect(1)
         .create();
     let route = tmp.path().join("route.json");
@@ -104,7 +106,7 @@ fn run_lowers_repairs_and_plans_against_a_mock_server() {
     );
     assert_eq!(
         String::from_utf8_lossy(&again.stdout),
-        "route {\n  go objects(bed).nearest(start)\n}\n"
+        "route {\n  go area_near(objects(bed).nearest(start))\n}\n"
     );
     // ... and nothing written holds the key, nor does anything printed.
     let mut stack = vec![tmp.path().to_path_buf()];
@@ -196,7 +198,7 @@ fn run_without_a_server_fails_cleanly_and_prompt_prints_the_messages() {
     assert_eq!(v["messages"].as_array().unwrap().len(), 2);
     assert!(v["estimated_tokens"].as_u64().unwrap() > 1000);
     let prog = tmp.path().join("p.m2r");
-    std::fs::write(&prog, "route {\n  go objects(bed)\n}\n").unwrap();
+    std::fs::write(&prog, "route {\n  go area_near(objects(bed))\n}\n").unwrap();
     let out = m2rc(tmp.path())
         .args(["prompt", "--map", "demo", "Go to the bed.", "--repair-of"])
         .arg(&prog)

@@ -310,18 +310,18 @@ fn e0201_type_mismatch() {
 
 #[test]
 fn e0202_set_where_single_needs_an_explicit_choice() {
-    expect("route { go objects(bed) }", &[("E0202", "objects(bed)")]);
-    fixes_to_clean("route { go objects(bed) }");
     expect(
-        "route { go start { pass rooms(kitchen) } }",
-        &[("E0202", "rooms(kitchen)")],
+        "route { go area_near(objects(bed)) }",
+        &[("E0202", "objects(bed)")],
     );
+    fixes_to_clean("route { go area_near(objects(bed)) }");
     expect(
         "let d = room_before_entering(rooms(bathroom))\nroute { go d }",
         &[("E0202", "rooms(bathroom)")],
     );
-    // Sets are fine where sets are accepted.
+    // Sets are fine where sets are accepted: `go` and `pass` on a set are any one member.
     clean("route { go start { avoid objects(sofa) prefer near(objects(bed)) } }");
+    clean("route { go objects(bed) { pass rooms(kitchen) } }");
 }
 
 #[test]

@@ -162,7 +162,7 @@ codes! {
     TypeMismatch = "E0201", Error, "mismatched types",
         "route { go objects(bed).only() { prefer near(2) } }";
     SetWhereSingle = "E0202", Error, "a set where a single value is expected",
-        "route { go objects(bed) }";
+        "route { go area_near(objects(bed)) }";
     NumberWhereDistance = "E0203", Error, "number without a unit where a distance is expected",
         "route { go objects(bed).only() { prefer clearance(0.5) } }";
     StringLiteral = "E0204", Error, "string literal where a name is expected",

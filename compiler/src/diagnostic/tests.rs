@@ -10,7 +10,7 @@ fn diags(src: &str) -> Vec<Diagnostic> {
 
 #[test]
 fn text_set_where_single() {
-    let src = "// map: demo\nroute {\n  go objects(bed)\n}\n";
+    let src = "// map: demo\nroute {\n  go area_near(objects(bed))\n}\n";
     insta::assert_snapshot!(render_text(&diags(src), "bed.m2r", src));
 }
 
@@ -28,7 +28,7 @@ fn text_ambiguous_category_and_stage_scope() {
 
 #[test]
 fn colored_text_has_ansi_escapes_and_plain_has_none() {
-    let src = "route { go objects(bed) }";
+    let src = "route { go area_near(objects(bed)) }";
     let d = diags(src);
     assert!(render_text_colored(&d, "x.m2r", src).contains("\u{1b}["));
     assert!(!render_text(&d, "x.m2r", src).contains("\u{1b}["));
@@ -36,7 +36,7 @@ fn colored_text_has_ansi_escapes_and_plain_has_none() {
 
 #[test]
 fn json_follows_the_documented_schema() {
-    let src = "route {\n  go objects(bed)\n}";
+    let src = "route {\n  go area_near(objects(bed))\n}";
     let v: serde_json::Value = serde_json::from_str(&to_json(&diags(src), src)).unwrap();
     let d = &v[0];
     assert_eq!(d["code"], "E0202");
@@ -45,8 +45,8 @@ fn json_follows_the_documented_schema() {
     assert_eq!(d["span"]["start"], start);
     assert_eq!(d["span"]["end"], start + "objects(bed)".len());
     assert_eq!(d["span"]["line"], 2);
-    assert_eq!(d["span"]["col"], 6);
-    assert_eq!(d["span"]["end_col"], 18);
+    assert_eq!(d["span"]["col"], 16);
+    assert_eq!(d["span"]["end_col"], 28);
     assert_eq!(d["suggestion"]["replacement"], ".only()");
     assert_eq!(d["suggestion"]["span"]["start"], start + 12);
     assert_eq!(d["suggestions"].as_array().unwrap().len(), 2);
@@ -58,20 +58,20 @@ fn json_follows_the_documented_schema() {
 #[test]
 fn lsp_positions_use_utf16_after_non_ascii_text() {
     // A comment with an emoji (two UTF-16 units) and an accented letter before the error.
-    let src = "// café 😀\nroute { go objects(bed) }";
+    let src = "// café 😀\nroute { go area_near(objects(bed)) }";
     let uri: lsp_types::Uri = "file:///x.m2r".parse().unwrap();
     let out = to_lsp(&diags(src), src, &uri);
     assert_eq!(out.len(), 1);
     let r = out[0].range;
-    assert_eq!((r.start.line, r.start.character), (1, 11));
-    assert_eq!((r.end.line, r.end.character), (1, 23));
+    assert_eq!((r.start.line, r.start.character), (1, 21));
+    assert_eq!((r.end.line, r.end.character), (1, 33));
     assert_eq!(
         out[0].code,
         Some(lsp_types::NumberOrString::String("E0202".into()))
     );
     let data = out[0].data.as_ref().unwrap();
     assert_eq!(data["suggestions"][0]["newText"], ".only()");
-    assert_eq!(data["suggestions"][0]["range"]["start"]["character"], 23);
+    assert_eq!(data["suggestions"][0]["range"]["start"]["character"], 33);
     // On the comment line itself, the emoji counts two units.
     let idx = LineIndex::new(src);
     assert_eq!(
@@ -82,9 +82,9 @@ fn lsp_positions_use_utf16_after_non_ascii_text() {
 
 #[test]
 fn suggestions_apply_without_overlap() {
-    let src = "route { go objects(chiar) }";
+    let src = "route { go area_near(objects(chiar)) }";
     let fixed = apply_suggestions(src, &diags(src));
-    assert_eq!(fixed, "route { go objects(chair).only() }");
+    assert_eq!(fixed, "route { go area_near(objects(chair).only()) }");
 }
 
 #[test]

@@ -11,8 +11,10 @@
 //! Route-dependent places (`room_before_entering`, `doorway_leaving`, `doorway_entering`,
 //! `first_entered`) are read off [`GroundOptions::route`] when a planned route is given, else off
 //! the shortest traversable path; the pipeline re-grounds against each planned route until the
-//! binding is stable.
+//! binding is stable. A set destination (`go S`) is grounded as all its members, and the member the
+//! planned route reached is handed back the same way ([`GroundOptions::chosen`]).
 
+mod any_of;
 pub mod codes;
 mod expr;
 mod ground;
@@ -22,6 +24,7 @@ mod route;
 mod shapes;
 mod value;
 
+pub use any_of::Chosen;
 pub use problem::{Level, Problem};
 pub use shapes::THROUGH_REACH_M;
 pub use value::{PlaceVal, Pref, Region, Value, WallFollow, room_name};
@@ -41,6 +44,8 @@ pub struct GroundOptions {
     pub start: Option<Cell>,
     /// A planned route (from the start) to bind route-dependent places against.
     pub route: Option<Vec<Cell>>,
+    /// The members of set destinations and passes (`go S`, `pass S`) that route reached.
+    pub chosen: Vec<Chosen>,
 }
 
 /// The result of grounding: the IR when no error occurred, and every finding.
@@ -154,6 +159,7 @@ impl<'q, 'm> Grounder<'q, 'm> {
             q,
             source,
             route: opts.route.as_deref(),
+            chosen: &opts.chosen,
             problems: start_moved(q, opts.start, start).into_iter().collect(),
             scopes: Vec::new(),
             start: start_place.clone(),
@@ -204,6 +210,8 @@ pub(crate) struct Grounder<'q, 'm> {
     q: &'q MapQuery<'m>,
     source: &'q str,
     route: Option<&'q [Cell]>,
+    /// Members of set goals reached by the planned route (see `any_of.rs`).
+    chosen: &'q [Chosen],
     problems: Vec<Problem>,
     /// Bindings in scope, innermost last.
     scopes: Vec<(String, Value)>,

@@ -129,8 +129,9 @@ impl Grounder<'_, '_> {
 
     fn stage(&mut self, s: &ast::Stage, b: &mut Build) {
         let index = b.stages.len();
-        let target = match self.eval(&s.target) {
-            Value::Place(p) => Some(p),
+        let goal = match self.eval(&s.target) {
+            Value::Place(p) => self.set_goal("go", s.target.span, vec![p], index, None),
+            Value::Set(ps) => self.set_goal("go", s.target.span, ps, index, None),
             Value::Unknown => None,
             _ => {
                 self.unsupported(&s.target);
@@ -141,19 +142,22 @@ impl Grounder<'_, '_> {
             .name
             .as_ref()
             .map_or(format!("stage{}", index + 1), |n| n.name.clone());
-        let ir_target = match &target {
-            Some(p) => self.ir_place(p),
-            None => Place {
-                kind: PlaceKind::Region {
-                    construction: Construction {
-                        kind: "unresolved".into(),
-                        from: vec![],
-                        radius_m: None,
+        let (target, ir_target) = match goal {
+            Some(g) => (Some(g.value), g.ir),
+            None => (
+                None,
+                Place {
+                    kind: PlaceKind::Region {
+                        construction: Construction {
+                            kind: "unresolved".into(),
+                            from: vec![],
+                            radius_m: None,
+                        },
                     },
+                    label: "unresolved".into(),
+                    cells: CellSet::default(),
                 },
-                label: "unresolved".into(),
-                cells: CellSet::default(),
-            },
+            ),
         };
         b.stages.push(ir::Stage {
             name,
@@ -205,25 +209,17 @@ impl Grounder<'_, '_> {
             (_, Value::Unknown) => return,
             (Kind::Pass, v) => {
                 let Some(places) = v.places() else { return };
-                if places.is_empty() {
-                    self.problems.push(Problem::error(
-                        codes::EMPTY_REFERENCE,
-                        c.value.span,
-                        "`pass` matches nothing on this map",
-                    ));
-                    return;
-                }
                 match stage.and_then(|i| b.stages.get_mut(i).map(|_| i)) {
                     Some(i) => {
-                        let span = SourceSpan::new(self.source, c.span);
-                        let passes: Vec<Pass> = places
-                            .iter()
-                            .map(|p| Pass {
-                                place: self.ir_place(p),
-                                span,
-                            })
-                            .collect();
-                        b.stages[i].passes.extend(passes);
+                        let at = b.stages[i].passes.len();
+                        let Some(goal) = self.set_goal("pass", c.value.span, places, i, Some(at))
+                        else {
+                            return;
+                        };
+                        b.stages[i].passes.push(Pass {
+                            place: goal.ir,
+                            span: SourceSpan::new(self.source, c.span),
+                        });
                     }
                     None => {
                         self.problems.push(

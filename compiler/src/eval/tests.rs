@@ -17,7 +17,11 @@ fn run_with(src: &str, route: Option<Vec<Cell>>) -> Grounded {
         &parsed.program,
         src,
         &q,
-        &GroundOptions { start: None, route },
+        &GroundOptions {
+            start: None,
+            route,
+            ..Default::default()
+        },
     )
 }
 
@@ -211,6 +215,7 @@ fn missing_start_is_a_diagnostic_not_a_panic() {
         &GroundOptions {
             start: Some(Cell::new(2, 3)),
             route: None,
+            ..Default::default()
         },
     );
     assert!(
@@ -242,6 +247,7 @@ fn missing_start_is_a_diagnostic_not_a_panic() {
         &GroundOptions {
             start: Some(used),
             route: None,
+            ..Default::default()
         },
     );
     assert!(g.problems.iter().all(|p| p.code != codes::START_MOVED));

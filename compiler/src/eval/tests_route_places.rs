@@ -25,6 +25,7 @@ fn ground_on(map: &SemanticMap, src: &str) -> Grounded {
     let opts = GroundOptions {
         start: Some(Cell::new(18, 15)),
         route: None,
+        ..Default::default()
     };
     ground(&parsed.program, src, &q, &opts)
 }

@@ -164,14 +164,15 @@ fn compile_errors_become_pointers_and_patches() {
 
 #[test]
 fn a_set_where_one_place_is_needed_is_patched_by_wrapping_the_node() {
-    let g = json!({"segments": [{"to": {"op": "objects", "args": ["bed"]}}]});
+    // `go` takes a set (any one member); `area_near` needs one place.
+    let g = json!({"segments": [{"to": {"op": "area_near", "args": [{"op": "objects", "args": ["bed"]}]}}]});
     let compiled = graph_to_program(&g).unwrap();
     let vocab = m2rc_stdlib::vocab::Vocabulary::benchmark();
     let checked = crate::check(&compiled.program, &vocab);
     let fb = graph_feedback(&compiled, &checked.diagnostics);
     let patched: Vec<_> = fb.iter().filter_map(|d| d.patch.clone()).collect();
     assert!(
-        patched.iter().any(|p| p["path"] == "/segments/0/to"
+        patched.iter().any(|p| p["path"] == "/segments/0/to/args/0"
             && p["value"]["of"] == json!({"op": "objects", "args": ["bed"]})),
         "{fb:?}"
     );

@@ -241,7 +241,7 @@ mod tests {
     #[test]
     fn the_repair_prompt_carries_text_and_json_diagnostics() {
         let vocab = m2rc_stdlib::vocab::Vocabulary::benchmark();
-        let src = "route {\n  go objects(bed)\n}\n";
+        let src = "route {\n  go area_near(objects(bed))\n}\n";
         let r = crate::check(src, &vocab);
         assert!(r.has_errors());
         let fb = Feedback::Diagnostics {
@@ -255,6 +255,6 @@ mod tests {
         let code = r.diagnostics[0].code.id();
         assert!(last.contains(&format!("error[{code}]")), "{last}");
         assert!(last.contains(&format!("\"code\": \"{code}\"")), "{last}");
-        assert!(last.contains("go objects(bed)"));
+        assert!(last.contains("go area_near(objects(bed))"));
     }
 }

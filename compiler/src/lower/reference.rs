@@ -11,7 +11,8 @@ Rules of .m2r:
 - Categories are written bare and only the categories listed in the scene catalog exist:
   `objects(chair)`, `rooms(bedroom)`, `objects(sofa | arm_chair)` (a union). Never quote them.
 - Sets and single things are different types. `objects(chair)` is a Set<Object>; a place slot
-  (`go`, `near(...)`, `area_between`, `.room()`) needs one Object, Room or Region. Choose one
+  (`area_between`, `.room()`, ...) needs one Object, Room or Region; `go`/`pass` on a set mean
+  any one of them (for \"a box\", \"any toilet\"). For \"the chair\" choose one
   explicitly: `.nearest(x)`, `.farthest(x)`, `.kth_nearest(k, x)`, `.largest()`, `.smallest()`,
   `.max_by(r => ...)`, `.min_by(o => ...)`, or `.only()` when the instruction implies exactly one.
   A singular noun is not proof of uniqueness: prefer a ranking when the instruction gives one.

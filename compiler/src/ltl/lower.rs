@@ -127,6 +127,10 @@ pub fn base_name(p: &Place) -> String {
         PlaceKind::Object { id, category, .. } => format!("{category}_{id}"),
         PlaceKind::Room { id, category } => format!("{category}_{id}"),
         PlaceKind::Region { construction } => construction.kind.clone(),
+        PlaceKind::AnyOf { members } => match members.first() {
+            Some(m) => format!("any_{}", base_name(m)),
+            None => "any".into(),
+        },
     };
     sanitize(&raw)
 }

@@ -436,7 +436,7 @@ impl<'m> ToolSession<'m> {
         }
         let opts = GroundOptions {
             start: self.start,
-            route: None,
+            ..GroundOptions::default()
         };
         let (values, problems) = evaluate_lets(&checked, &src, &self.q, &opts);
         let errors: Vec<String> = problems

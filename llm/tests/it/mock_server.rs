@@ -18,8 +18,8 @@ use std::time::Duration;
 pub(crate) const KEY: &str = "sk-test-SECRET-4242";
 pub(crate) const PATH: &str = "/v1/chat/completions";
 pub(crate) const BAD: &str =
-    "let c = objects(chiar).nearest(start)\nroute {\n  go objects(bed)\n  avoid c\n}\n";
-pub(crate) const GOOD: &str = "let c = objects(chair).nearest(start)\nroute {\n  go objects(bed).nearest(start)\n  avoid c\n}\n";
+    "let c = objects(chiar).nearest(start)\nroute {\n  go area_near(objects(bed))\n  avoid c\n}\n";
+pub(crate) const GOOD: &str = "let c = objects(chair).nearest(start)\nroute {\n  go area_near(objects(bed).nearest(start))\n  avoid c\n}\n";
 
 pub(crate) fn config(url: &str) -> LlmConfig {
     LlmConfig {

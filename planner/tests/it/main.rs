@@ -5,3 +5,4 @@ mod fixture_route;
 mod lower;
 mod planners;
 mod properties;
+mod set_goals;

@@ -4,6 +4,7 @@
 //! hover text and the LLM prompt.
 
 pub mod signature;
+pub mod statements;
 pub mod synonyms;
 pub mod table;
 mod table_parts;
@@ -12,6 +13,7 @@ pub mod types;
 pub use signature::{
     Builtin, Constant, DefaultValue, Direction, EnumWord, Metric, Param, Receiver, Requirement, Ty,
 };
+pub use statements::STATEMENTS;
 pub use table::{BUILTINS, CONSTANTS, ENUM_WORDS};
 pub use types::{Elem, Scalar, Type};
 
@@ -64,6 +66,11 @@ pub fn prompt_reference() -> String {
     for w in ENUM_WORDS {
         out.push_str(&format!("{}: {}  // {}\n", w.name, w.ty, w.doc));
     }
+    for s in STATEMENTS {
+        for f in s.forms {
+            out.push_str(&format!("{}  // {}\n", s.form_line(f), f.doc));
+        }
+    }
     out
 }
 
@@ -103,6 +110,17 @@ pub fn reference_markdown() -> String {
     out.push_str("\n| Word | Type | Description |\n|---|---|---|\n");
     for w in ENUM_WORDS {
         out.push_str(&format!("| `{}` | `{}` | {} |\n", w.name, w.ty, w.doc));
+    }
+    out.push_str("\n| Statement | Description | Example |\n|---|---|---|\n");
+    for s in STATEMENTS {
+        for f in s.forms {
+            out.push_str(&format!(
+                "| `{}` | {} | `{}` |\n",
+                s.form_line(f).replace('|', "\\|"),
+                f.doc.replace('|', "\\|"),
+                f.example
+            ));
+        }
     }
     out
 }
@@ -146,11 +164,18 @@ mod tests {
     #[test]
     fn prompt_and_hover_come_from_the_table() {
         let prompt = prompt_reference();
+        let forms: usize = STATEMENTS.iter().map(|s| s.forms.len()).sum();
         assert_eq!(
             prompt.lines().count(),
-            BUILTINS.len() + CONSTANTS.len() + ENUM_WORDS.len()
+            BUILTINS.len() + CONSTANTS.len() + ENUM_WORDS.len() + forms
         );
         assert!(prompt.contains("rooms(category: Category?) -> Set<Room>  // All rooms"));
+        // The set forms of `go` and `pass` (issue 35, item 6) are lines of the table.
+        assert!(prompt.contains("go <Set<Place>>  // A stage to any one of the places"));
+        assert!(prompt.contains("pass <Set<Place>>  // Inside a stage"));
+        for s in STATEMENTS {
+            assert!(statements::operand(s.keyword).contains(&Ty::SET_PLACE));
+        }
         let near = hover("near").unwrap();
         assert_eq!(near.matches("near(").count(), 3, "{near}");
         assert!(hover("here").unwrap().contains("Region"));

@@ -98,7 +98,10 @@ fn check_route(name: &str, map: &SemanticMap, c: &CompiledRoute) {
         // The destination is reached at the end of its stage: on its cells (room, region) or in the
         // approach band of an object (or the planner's fallback next to it).
         let d = dist_to(&stage.target, t[end], res);
-        let limit = if matches!(stage.target.kind, PlaceKind::Object { .. }) {
+        let object = |k: &PlaceKind| matches!(k, PlaceKind::Object { .. });
+        let limit = if object(&stage.target.kind)
+            || matches!(&stage.target.kind, PlaceKind::AnyOf { members } if members.iter().any(|m| object(&m.kind)))
+        {
             1.0
         } else {
             0.3
@@ -268,4 +271,36 @@ fn programs_that_fail_on_a_map_report_every_error_with_candidates() {
         amb.notes
     );
     assert!(errors.iter().any(|d| d.code.id() == "E0501"));
+}
+
+/// `go S` through the whole pipeline: the stage's goal is every chair, the route ends by one of
+/// them, and the binding the compile output shows names that chair, read off the planned route.
+#[test]
+fn a_set_destination_is_bound_to_the_member_the_route_reached() {
+    let map = m2rc_stdlib::load::load_map("demo").unwrap();
+    let src = "route { go objects(chair) }";
+    let c = compile_and_plan(src, &map, &PipelineOptions::default()).expect("plans");
+    let PlaceKind::AnyOf { members } = &c.ir.stages[0].target.kind else {
+        panic!("not a set goal: {:?}", c.ir.stages[0].target.kind);
+    };
+    assert!(members.len() >= 2, "the demo has several chairs");
+    let b = &c.ir.route_bindings[0];
+    assert_eq!(b.function, "go");
+    assert_eq!(b.against, m2rc_compiler::ir::BoundAgainst::Planned);
+    let end = *c.route.trajectory.last().unwrap();
+    let res = map.resolution();
+    let reached = members
+        .iter()
+        .find(|m| m.label == b.resolved)
+        .expect("the binding names a member");
+    // Within the approach band (0.3 m, or the planner's fallback next to it), as for any object.
+    assert!(dist_to(reached, end, res) <= 1.0, "{}", b.resolved);
+    for m in members.iter().filter(|m| m.label != b.resolved) {
+        assert!(
+            dist_to(m, end, res) >= dist_to(reached, end, res),
+            "{}",
+            m.label
+        );
+    }
+    check_route("go objects(chair)", &map, &c);
 }

@@ -68,9 +68,10 @@ fn prompt() -> Prompt {
 
 #[test]
 fn local_fixes_are_applied_and_only_the_rest_reaches_the_model() {
-    // `chiar` has one suggestion (local); `go objects(bed)` has two (`.only()`, `.nearest()`).
-    let bad = "let c = objects(chiar).nearest(start)\nroute {\n  go objects(bed)\n  avoid c\n}\n";
-    let good = "let c = objects(chair).nearest(start)\nroute {\n  go objects(bed).nearest(start)\n  avoid c\n}\n";
+    // `chiar` has one suggestion (local); `area_near(objects(bed))` has two (`.only()`,
+    // `.nearest()`).
+    let bad = "let c = objects(chiar).nearest(start)\nroute {\n  go area_near(objects(bed))\n  avoid c\n}\n";
+    let good = "let c = objects(chair).nearest(start)\nroute {\n  go area_near(objects(bed).nearest(start))\n  avoid c\n}\n";
     let model = Scripted::new(vec![code(bad), code(good)]);
     let mut v = check_only;
     let t = run_episode(
@@ -118,7 +119,7 @@ fn rounds_are_bounded_and_non_code_replies_are_answered() {
         finish_reason: Some("stop".into()),
         ..ChatReply::default()
     });
-    let bad = "route {\n  go objects(bed)\n}\n";
+    let bad = "route {\n  go area_near(objects(bed))\n}\n";
     let model = Scripted::new(vec![no_code, code(bad), code(bad), code(bad), code(bad)]);
     let mut v = check_only;
     let opts = RepairOptions {
@@ -178,7 +179,7 @@ fn pending_and_failed_requests_end_with_their_own_outcome() {
 
 #[test]
 fn overlapping_or_ambiguous_suggestions_are_not_applied() {
-    let src = "route {\n  go objects(bed)\n}\n";
+    let src = "route {\n  go area_near(objects(bed))\n}\n";
     let r = crate::check(src, &Vocabulary::benchmark());
     assert!(unambiguous_fixes(src, &r.diagnostics).is_none());
 }
