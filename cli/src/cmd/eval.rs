@@ -67,11 +67,17 @@ pub struct EvalArgs {
 /// house's or the demo's id is made up by the importer, so it cannot be checked).
 fn eval_map(arg: &str) -> Result<(EvalMap, Option<String>)> {
     let staged = crate::io::MapArg::new(arg)?;
-    match crate::io::load_map_kind(&staged.arg) {
-        Ok((map, kind)) => {
-            let id = (kind == SourceKind::Map2RouteMap && !map.map_id.is_empty())
+    match crate::io::load_map_prepared(&staged.arg) {
+        Ok(loaded) => {
+            let map = &loaded.doc.map;
+            let id = (loaded.kind == SourceKind::Map2RouteMap && !map.map_id.is_empty())
                 .then(|| map.map_id.clone());
-            Ok((EvalMap::from_semantic_map(&map), id))
+            let eval_map = EvalMap::from_semantic_map(map);
+            if let Some(sq) = &loaded.obstacle_sq {
+                eval_map.seed_clearance_sq(sq);
+            }
+            crate::timings::mark("eval: evaluator's map built");
+            Ok((eval_map, id))
         }
         Err(load_err) => {
             // A minimal map (grid_size and layers only) is not a full Map2Route map.
@@ -132,8 +138,10 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
     let opts = EvalOptions {
         dedup_region_waypoints: args.dedup_region_waypoints,
     };
+    crate::timings::mark("eval: episode and route read");
     let metrics = evaluate(&route, &episode, &map, &opts)
         .with_context(|| format!("{ep_name}: cannot evaluate"))?;
+    crate::timings::mark("eval: scored");
     let validity = route_validity(&route, &map);
     if !validity.valid {
         eprintln!(
@@ -153,6 +161,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
         }
     };
     crate::io::stdout(&out)?;
+    crate::timings::mark("eval: written");
     Ok(ExitCode::SUCCESS)
 }
 

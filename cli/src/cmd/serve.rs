@@ -67,12 +67,15 @@ pub fn run(args: ServeArgs) -> Result<ExitCode> {
             args.listen
         )));
     }
-    let (doc, _) = crate::io::load_map_doc_kind(&args.map)?;
+    let loaded = crate::io::load_map_prepared(&args.map)?;
+    let planning = loaded.planning()?;
+    let doc = loaded.doc;
     let frame = m2rc_stdlib::map::frame::MapFrame::of(&doc.map, Some(&doc.extra))
         .map_err(|e| unusable(anyhow::Error::new(e).context(format!("map `{}`", args.map))))?;
     let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
     let shared = Arc::new(Shared {
         map: doc.map,
+        planning,
         frame,
         max_wall: Duration::from_secs_f64(args.max_seconds),
         slots: tokio::sync::Semaphore::new(workers),

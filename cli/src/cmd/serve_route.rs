@@ -3,7 +3,7 @@
 
 use axum::http::StatusCode;
 use m2rc_benchmark::budget::{EpisodeBudget, Meter};
-use m2rc_benchmark::pipeline::{PipelineOptions, compile_and_plan_explained};
+use m2rc_benchmark::pipeline::{PipelineOptions, compile_and_plan_explained_with};
 use m2rc_compiler::diagnostic::to_json;
 use m2rc_stdlib::map::SemanticMap;
 use m2rc_stdlib::map::frame::MapFrame;
@@ -15,6 +15,8 @@ use std::time::Duration;
 /// What every request shares: the map, loaded once, and the service's limits.
 pub struct Shared {
     pub map: SemanticMap,
+    /// The map's planning context: its distance fields are computed once and shared by requests.
+    pub planning: m2rc_planner::context::MapContext,
     pub frame: MapFrame,
     pub max_wall: Duration,
     /// At most this many requests compile at once; the others wait their turn.
@@ -108,7 +110,7 @@ pub fn plan_request(s: &Shared, body: &[u8]) -> Result<Value, RouteError> {
         ..PipelineOptions::default()
     };
     let diagnostics = |d| serde_json::from_str::<Value>(&to_json(d, &source)).unwrap_or_default();
-    let compiled = match compile_and_plan_explained(&source, &s.map, &opts) {
+    let compiled = match compile_and_plan_explained_with(&source, &s.map, &s.planning, &opts) {
         Ok(c) => c,
         Err(failure) => {
             let (status, message) = match meter.exceeded() {
