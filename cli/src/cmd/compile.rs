@@ -233,7 +233,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             crate::cmd::eval::check_same_map(ep, name, Some(map.map_id.as_str()), &map_arg)?;
         }
         if start.is_none() {
-            let cell = m2rc_benchmark::methods::start_cell(&map, ep)
+            let cell = m2rc_benchmark::methods::start_cell(map, ep)
                 .map_err(|e| unusable(anyhow::anyhow!("{name}: {e}")))?;
             start = Some(cell);
             if args.episode.is_none() {
@@ -269,7 +269,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         Err(failure) => {
             print_diagnostics(&failure.diagnostics, &file_name, &source, args.format);
             if let Some(path) = &args.png {
-                failed_png(path, &map, &failure, args.labels)?;
+                failed_png(path, map, &failure, args.labels)?;
             }
             return Ok(ExitCode::FAILURE);
         }
@@ -287,7 +287,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
     crate::timings::mark("compile: compiled and planned");
     // Build every output before writing any.
     let ir_json = compiled.ir.to_json();
-    let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;
+    let route_json = serde_json::to_string_pretty(&route_document(&compiled, map))?;
     let ltl_text = match ltl_emit(args.emit) {
         Some(kind) => Some(
             m2rc_compiler::ltl::emit(&compiled.ltl_route(), kind, &compiled.ir.map_id)
@@ -297,13 +297,13 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         None => None,
     };
     let robot = match args.emit.robot() {
-        Some(kind) => Some(crate::cmd::route_out::emit(kind, &map, &frame, &compiled)?),
+        Some(kind) => Some(crate::cmd::route_out::emit(kind, map, &frame, &compiled)?),
         None => None,
     };
     let png = match &args.png {
         Some(_) => Some(
             render_map(
-                &shown_map(&map, &compiled),
+                &shown_map(map, &compiled),
                 &RenderOptions {
                     labels: args.labels,
                     ..render_options(&compiled)

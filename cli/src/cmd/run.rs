@@ -134,7 +134,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     let key = format!("{}/run", map.map_id);
     let (prompt, trace) = lower_and_plan(
         &model,
-        &map,
+        map,
         &ctx,
         &args.instruction,
         &key,
@@ -211,14 +211,14 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     };
     let program = trace.final_program.unwrap_or_default();
     let ir_json = compiled.ir.to_json();
-    let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;
+    let route_json = serde_json::to_string_pretty(&route_document(&compiled, map))?;
     let robot = match args.emit.robot() {
-        Some(kind) => Some(crate::cmd::route_out::emit(kind, &map, &frame, &compiled)?),
+        Some(kind) => Some(crate::cmd::route_out::emit(kind, map, &frame, &compiled)?),
         None => None,
     };
     let png = match &args.png {
         Some(_) => Some(
-            render_map(&map, &render_options(&compiled))
+            render_map(map, &render_options(&compiled))
                 .context("cannot render the route")?
                 .png,
         ),
