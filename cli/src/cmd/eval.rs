@@ -61,6 +61,13 @@ pub struct EvalArgs {
     /// episode is scored as the reference evaluator scores it.
     #[arg(long)]
     pub strict: bool,
+    /// Not taken (refused with the way to do it): `eval` scores a route from its own first cell,
+    /// so plan it from the robot's start (`m2rc compile --start X,Y --episode EP`) and score that.
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    pub start: Option<String>,
+    /// Not taken, as `--start`.
+    #[arg(long, value_name = "ROW,COL")]
+    pub start_cell: Option<String>,
 }
 
 /// The evaluator's view of a map argument, and the map's id when it is a Map2Route map (a
@@ -120,6 +127,18 @@ pub fn check_same_map(
 }
 
 pub fn run(args: EvalArgs) -> Result<ExitCode> {
+    if let Some(flag) = [("--start", &args.start), ("--start-cell", &args.start_cell)]
+        .iter()
+        .find_map(|(f, v)| v.is_some().then_some(*f))
+    {
+        return Err(unusable(anyhow::anyhow!(
+            "{flag}: `m2rc eval` takes no start: it scores a route against an episode from the \
+             route's own first cell, as the reference evaluator does (every segment is measured \
+             from where the route actually is)\nhelp: plan the route from the robot's start with \
+             `m2rc compile PROGRAM.m2r --map MAP --episode EPISODE.json {flag} ... -o route.json`, \
+             then score it with `m2rc eval --map MAP --episode EPISODE.json --route route.json`"
+        )));
+    }
     let (map, map_id) = eval_map(&args.map)?;
     let ep_name = display_name(&args.episode);
     let episode = Episode::from_json_str(&read_to_string(&args.episode)?, &ep_name)?;
