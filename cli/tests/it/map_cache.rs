@@ -243,3 +243,48 @@ fn an_entry_trusted_by_the_file_identity_is_still_never_used_for_changed_bytes()
         .or(route["map_id"].as_str());
     assert_ne!(new_id, Some(id.as_str()), "the stale entry was not used");
 }
+
+/// Every record file under `dir`, by its path below `dir`, with its bytes.
+fn records(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    for map in std::fs::read_dir(dir).unwrap().flatten() {
+        if !map.path().is_dir() || map.file_name() == "llm-cache" {
+            continue;
+        }
+        for f in std::fs::read_dir(map.path()).unwrap().flatten() {
+            let rel = f.path().strip_prefix(dir).unwrap().to_path_buf();
+            out.push((rel, std::fs::read(f.path()).unwrap()));
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn bench_run_loads_each_map_through_the_cache_and_writes_the_same_records() {
+    let suite = crate::common::suite(3);
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let bench = |out: &str, cache: Option<&Path>| {
+        let args = [
+            "bench",
+            "run",
+            "--suite",
+            suite.to_str().unwrap(),
+            "--method",
+            "oracle",
+            "--out",
+            out,
+        ];
+        run(&args, dir.path(), cache).expect(0);
+        records(&dir.path().join(out))
+    };
+    let off = bench("off", None);
+    assert!(!off.is_empty());
+    let miss = bench("miss", Some(&cache));
+    let made = entries(&cache);
+    assert_eq!(made.len(), 1, "one map, one entry: {made:?}");
+    let hit = bench("hit", Some(&cache));
+    assert_eq!(miss, off);
+    assert_eq!(hit, off);
+}
