@@ -6,6 +6,7 @@ pub mod episode;
 pub mod episode_check;
 pub mod import;
 pub mod limits;
+pub mod map_cache;
 pub mod methods;
 pub mod metrics;
 pub mod pipeline;

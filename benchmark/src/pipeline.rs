@@ -108,6 +108,17 @@ pub fn compile_and_plan_explained(
     compile(source, map, None, opts)
 }
 
+/// [`compile_and_plan_explained`] with a planning context built beforehand (one seeded with the
+/// prepared-map cache's distance field, or shared by a service's requests).
+pub fn compile_and_plan_explained_with(
+    source: &str,
+    map: &SemanticMap,
+    ctx: &MapContext,
+    opts: &PipelineOptions,
+) -> Result<CompiledRoute, CompileFailure> {
+    compile(source, map, Some(ctx), opts)
+}
+
 /// [`compile_and_plan`] with a planning context built once for `map` and shared across calls
 /// (and threads): the distance fields a plan needs are computed once per map, not per program.
 pub fn compile_and_plan_with(

@@ -361,10 +361,17 @@ fn load_suite_map(
     let path = manifest
         .map_path(suite, map_id)
         .ok_or_else(|| format!("suite has no map {map_id}"))?;
-    let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let map = m2rc_stdlib::map::read_map_json(&bytes, &path.display().to_string())
-        .map_err(|e| e.to_string())?;
-    Ok(Arc::new(PreparedMap::new(map)))
+    let name = path.display().to_string();
+    let loaded = crate::map_cache::load_map_file(
+        crate::map_cache::dir_for_runs(),
+        &path,
+        |bytes| m2rc_stdlib::map::read_map_document_json(bytes, &name).map_err(|e| e.to_string()),
+        |e| format!("{name}: {e}"),
+    )?;
+    Ok(Arc::new(PreparedMap::with_obstacle_sq(
+        loaded.doc.map,
+        loaded.obstacle_sq,
+    )))
 }
 
 /// Runs the method on one episode and scores its route: the full prediction record.

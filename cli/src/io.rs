@@ -306,12 +306,50 @@ pub fn load_map_kind(
 pub fn load_map_doc_kind(
     arg: &str,
 ) -> Result<(m2rc_stdlib::map::MapDocument, m2rc_stdlib::load::SourceKind)> {
+    load_map_prepared(arg).map(|m| (m.doc, m.kind))
+}
+
+/// A map argument loaded through the prepared-map cache (`m2rc_benchmark::map_cache`).
+pub struct LoadedMap {
+    pub doc: m2rc_stdlib::map::MapDocument,
+    pub kind: m2rc_stdlib::load::SourceKind,
+    /// The planner's obstacle field, when the cache had it or computed it.
+    pub obstacle_sq: Option<std::sync::Arc<Vec<u32>>>,
+}
+
+impl LoadedMap {
+    /// The planner's context for this map, seeded with the cached obstacle field.
+    pub fn planning(&self) -> Result<m2rc_planner::context::MapContext> {
+        let ctx = m2rc_planner::context::MapContext::new(&self.doc.map)
+            .map_err(|e| anyhow::anyhow!("the map cannot be planned on: {e}"))?;
+        if let Some(sq) = &self.obstacle_sq {
+            ctx.fields().seed_obstacle_sq(sq.clone());
+        }
+        Ok(ctx)
+    }
+}
+
+/// [`load_map_doc_kind`], with the prepared-map cache's obstacle field (a Map2Route map file
+/// only; houses, the demo and standard input are parsed every time).
+pub fn load_map_prepared(arg: &str) -> Result<LoadedMap> {
     let staged = MapArg::new(arg)?;
-    let cache = (!staged.is_stdin())
-        .then(|| crate::map_cache::Entry::for_arg(&staged.arg))
-        .flatten();
-    if let Some(doc) = cache.as_ref().and_then(|c| c.get()) {
-        return Ok((doc, m2rc_stdlib::load::SourceKind::Map2RouteMap));
+    let file = Path::new(&staged.arg);
+    let mut cache = (!staged.is_stdin() && arg != "demo")
+        .then(m2rc_benchmark::map_cache::dir_from_env)
+        .flatten()
+        .and_then(|dir| m2rc_benchmark::map_cache::Entry::open(&dir, file, &staged.arg));
+    crate::timings::mark("map: cache entry opened");
+    if let Some(hit) = cache.as_mut().and_then(|c| c.get()) {
+        crate::timings::mark(if hit.by_identity {
+            "map: prepared map read (file identity matched)"
+        } else {
+            "map: prepared map read (source bytes checked)"
+        });
+        return Ok(LoadedMap {
+            doc: hit.doc,
+            kind: m2rc_stdlib::load::SourceKind::Map2RouteMap,
+            obstacle_sq: hit.obstacle_sq,
+        });
     }
     let db = asset_db_for(arg, None)?;
     let opts = m2rc_stdlib::load::LoadOptions {
@@ -325,10 +363,14 @@ pub fn load_map_doc_kind(
     let (doc, kind) = m2rc_stdlib::load::load_map_with(&staged.arg, &opts)
         .map_err(|e| unusable(anyhow::Error::new(e).context(format!("cannot load map `{arg}`"))))?;
     warn_without_assets(arg, kind, db.is_some());
-    if let Some(c) = cache
-        && kind == m2rc_stdlib::load::SourceKind::Map2RouteMap
-    {
-        c.put(&doc);
-    }
-    Ok((doc, kind))
+    crate::timings::mark("map: parsed");
+    let obstacle_sq = match cache.as_mut() {
+        Some(c) if kind == m2rc_stdlib::load::SourceKind::Map2RouteMap => c.put(&doc),
+        _ => None,
+    };
+    Ok(LoadedMap {
+        doc,
+        kind,
+        obstacle_sq,
+    })
 }

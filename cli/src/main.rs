@@ -4,9 +4,9 @@
 mod cmd;
 mod io;
 mod lsp_stdio;
-mod map_cache;
 mod outputs;
 mod suite_layout;
+mod timings;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -63,6 +63,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    timings::start();
     io::quiet_broken_pipe();
     let cli = Cli::parse();
     let result = match cli.command {

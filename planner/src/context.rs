@@ -20,6 +20,11 @@ type ClearanceEntry = ((u64, u64), Arc<Vec<f64>>);
 /// Most arrays of each kind kept between plans.
 const MAX_STASHED: usize = 4;
 
+/// The tag of the obstacle rule behind [`MapFields::obstacle_sq`] (occupied cells and non-door
+/// objects; the non-traversable cells on a map without any): bumped when that rule changes, so a
+/// field stored under an older rule (the prepared-map cache) is not offered.
+pub const OBSTACLE_FIELD_TAG: u32 = 1;
+
 /// Object categories the clearance term does not treat as obstacles.
 pub const DOOR_CATEGORIES: [&str; 2] = ["doorway", "doorframe"];
 
@@ -152,6 +157,22 @@ impl MapFields {
             self.obstacle_sq
                 .get_or_init(|| Arc::new(field::squared_distances(&self.obstacle_source, self.n))),
         )
+    }
+
+    /// Offers a squared-distance field computed earlier (the prepared-map cache's): it is used
+    /// when it has this map's size and its zero cells are exactly this map's obstacle cells (which
+    /// determines the exact transform), else ignored. Whether it was used.
+    pub fn seed_obstacle_sq(&self, squared: Arc<Vec<u32>>) -> bool {
+        let fits = squared.len() == self.obstacle_source.len()
+            && if self.obstacle_source.iter().any(|&s| s) {
+                squared
+                    .iter()
+                    .zip(&self.obstacle_source)
+                    .all(|(&d, &s)| (d == 0) == s)
+            } else {
+                squared.iter().all(|&d| d == field::NO_SOURCE)
+            };
+        fits && self.obstacle_sq.set(squared).is_ok()
     }
 
     /// The arrays stashed by earlier plans (empty when another plan holds them).

@@ -61,22 +61,44 @@ pub struct PreparedMap {
     pub map: SemanticMap,
     pub eval: EvalMap,
     planning: OnceLock<Result<MapContext, String>>,
+    /// The obstacle field loaded with the map (the prepared-map cache's), for the planner.
+    obstacle_sq: Option<std::sync::Arc<Vec<u32>>>,
 }
 
 impl PreparedMap {
     pub fn new(map: SemanticMap) -> Self {
+        Self::with_obstacle_sq(map, None)
+    }
+
+    /// [`Self::new`] with the map's obstacle field already computed
+    /// ([`crate::map_cache::Loaded::obstacle_sq`]): the evaluator and the planner use it instead
+    /// of computing their own when it is this map's (`seed_*` check that).
+    pub fn with_obstacle_sq(
+        map: SemanticMap,
+        obstacle_sq: Option<std::sync::Arc<Vec<u32>>>,
+    ) -> Self {
         let eval = EvalMap::from_semantic_map(&map);
+        if let Some(sq) = &obstacle_sq {
+            eval.seed_clearance_sq(sq);
+        }
         PreparedMap {
             map,
             eval,
             planning: OnceLock::new(),
+            obstacle_sq,
         }
     }
 
     /// The planner's context for this map.
     pub fn planning(&self) -> Result<&MapContext, MethodError> {
         self.planning
-            .get_or_init(|| MapContext::new(&self.map))
+            .get_or_init(|| {
+                let ctx = MapContext::new(&self.map)?;
+                if let Some(sq) = &self.obstacle_sq {
+                    ctx.fields().seed_obstacle_sq(sq.clone());
+                }
+                Ok(ctx)
+            })
             .as_ref()
             .map_err(|e| MethodError(format!("the map cannot be planned on: {e}")))
     }

@@ -246,6 +246,24 @@ impl EvalMap {
             .as_ref()
     }
 
+    /// Offers the squared distances to the nearest obstacle computed earlier (the prepared-map
+    /// cache's, by the planner's rule): used for [`Self::clearance_field`] when its zero cells are
+    /// exactly this map's clearance obstacles, which makes its square roots the exact field; else
+    /// ignored. Whether it was used.
+    pub fn seed_clearance_sq(&self, squared: &[u32]) -> bool {
+        let Some(obstacles) = &self.obstacles else {
+            return false;
+        };
+        let fits = squared.len() == obstacles.len()
+            && obstacles.iter().any(|&b| b)
+            && squared.iter().zip(obstacles).all(|(&d, &b)| (d == 0) == b);
+        if !fits {
+            return false;
+        }
+        let field = squared.iter().map(|&d| (d as f64).sqrt()).collect();
+        self.clearance.set(Grid::from_vec(self.n, field)).is_ok()
+    }
+
     /// Distance from an arbitrary point to the nearest obstacle cell centre, by scanning (used
     /// only for points off the grid, which the field does not cover).
     pub fn nearest_obstacle_distance(&self, p: [f64; 2]) -> f64 {

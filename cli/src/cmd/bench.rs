@@ -192,6 +192,10 @@ pub(crate) fn run_method(a: RunArgs) -> Result<ExitCode> {
             }
         }
     };
+    // Each map of the run is loaded through the prepared-map cache, as `compile` and `eval` do.
+    if let Some(dir) = m2rc_benchmark::map_cache::dir_from_env() {
+        m2rc_benchmark::map_cache::enable_for_runs(dir);
+    }
     let opts = RunOptions {
         suite: a.suite,
         out: a.out.clone(),

@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::pipeline::{
-    CompileFailure, CompiledRoute, PipelineOptions, compile_and_plan_explained, stage_ends,
+    CompileFailure, CompiledRoute, PipelineOptions, compile_and_plan_explained_with, stage_ends,
 };
 use m2rc_compiler::diagnostic::{Diagnostic, render_text, to_json};
 use m2rc_compiler::ir::{ConstraintKind, Direction, RouteIr, Shape, StageScope};
@@ -209,16 +209,17 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             }
         },
     };
-    let (doc, kind) = crate::io::load_map_doc_kind(&map_arg).map_err(|e| match &from_header {
+    let loaded = crate::io::load_map_prepared(&map_arg).map_err(|e| match &from_header {
         Some(line) => unusable(anyhow::anyhow!(
             "{e:#}\nhelp: {}",
             header_map_help(line, &file_name)
         )),
         None => e,
     })?;
-    let frame = m2rc_stdlib::map::frame::MapFrame::of(&doc.map, Some(&doc.extra))
+    let frame = m2rc_stdlib::map::frame::MapFrame::of(&loaded.doc.map, Some(&loaded.doc.extra))
         .map_err(|e| unusable(anyhow::Error::new(e).context(format!("map `{map_arg}`"))))?;
-    let map = doc.map;
+    let kind = loaded.kind;
+    let map = &loaded.doc.map;
     if args.emit.robot().is_some_and(|r| r.is_binary()) && args.output.is_none() {
         return Err(unusable(anyhow::anyhow!(
             "--emit mcap writes a binary recording: pass `-o route.mcap` (or `-o -` for standard output)"
@@ -232,7 +233,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             crate::cmd::eval::check_same_map(ep, name, Some(map.map_id.as_str()), &map_arg)?;
         }
         if start.is_none() {
-            let cell = m2rc_benchmark::methods::start_cell(&map, ep)
+            let cell = m2rc_benchmark::methods::start_cell(map, ep)
                 .map_err(|e| unusable(anyhow::anyhow!("{name}: {e}")))?;
             start = Some(cell);
             if args.episode.is_none() {
@@ -261,12 +262,14 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         start,
         ..PipelineOptions::default()
     };
-    let compiled = match compile_and_plan_explained(&source, &map, &opts) {
+    crate::timings::mark("compile: ready to compile");
+    let planning = loaded.planning()?;
+    let compiled = match compile_and_plan_explained_with(&source, map, &planning, &opts) {
         Ok(c) => c,
         Err(failure) => {
             print_diagnostics(&failure.diagnostics, &file_name, &source, args.format);
             if let Some(path) = &args.png {
-                failed_png(path, &map, &failure, args.labels)?;
+                failed_png(path, map, &failure, args.labels)?;
             }
             return Ok(ExitCode::FAILURE);
         }
@@ -281,9 +284,10 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
                 .map_or_else(String::new, |v| v.get_name().to_string())
         );
     }
+    crate::timings::mark("compile: compiled and planned");
     // Build every output before writing any.
     let ir_json = compiled.ir.to_json();
-    let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;
+    let route_json = serde_json::to_string_pretty(&route_document(&compiled, map))?;
     let ltl_text = match ltl_emit(args.emit) {
         Some(kind) => Some(
             m2rc_compiler::ltl::emit(&compiled.ltl_route(), kind, &compiled.ir.map_id)
@@ -293,13 +297,13 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
         None => None,
     };
     let robot = match args.emit.robot() {
-        Some(kind) => Some(crate::cmd::route_out::emit(kind, &map, &frame, &compiled)?),
+        Some(kind) => Some(crate::cmd::route_out::emit(kind, map, &frame, &compiled)?),
         None => None,
     };
     let png = match &args.png {
         Some(_) => Some(
             render_map(
-                &shown_map(&map, &compiled),
+                &shown_map(map, &compiled),
                 &RenderOptions {
                     labels: args.labels,
                     ..render_options(&compiled)
@@ -350,6 +354,7 @@ pub fn run(args: CompileArgs) -> Result<ExitCode> {
             }
         }
     }
+    crate::timings::mark("compile: written");
     Ok(ExitCode::SUCCESS)
 }
 

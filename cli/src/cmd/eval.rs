@@ -61,17 +61,30 @@ pub struct EvalArgs {
     /// episode is scored as the reference evaluator scores it.
     #[arg(long)]
     pub strict: bool,
+    /// Not taken (refused with the way to do it): `eval` scores a route from its own first cell,
+    /// so plan it from the robot's start (`m2rc compile --start X,Y --episode EP`) and score that.
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    pub start: Option<String>,
+    /// Not taken, as `--start`.
+    #[arg(long, value_name = "ROW,COL")]
+    pub start_cell: Option<String>,
 }
 
 /// The evaluator's view of a map argument, and the map's id when it is a Map2Route map (a
 /// house's or the demo's id is made up by the importer, so it cannot be checked).
 fn eval_map(arg: &str) -> Result<(EvalMap, Option<String>)> {
     let staged = crate::io::MapArg::new(arg)?;
-    match crate::io::load_map_kind(&staged.arg) {
-        Ok((map, kind)) => {
-            let id = (kind == SourceKind::Map2RouteMap && !map.map_id.is_empty())
+    match crate::io::load_map_prepared(&staged.arg) {
+        Ok(loaded) => {
+            let map = &loaded.doc.map;
+            let id = (loaded.kind == SourceKind::Map2RouteMap && !map.map_id.is_empty())
                 .then(|| map.map_id.clone());
-            Ok((EvalMap::from_semantic_map(&map), id))
+            let eval_map = EvalMap::from_semantic_map(map);
+            if let Some(sq) = &loaded.obstacle_sq {
+                eval_map.seed_clearance_sq(sq);
+            }
+            crate::timings::mark("eval: evaluator's map built");
+            Ok((eval_map, id))
         }
         Err(load_err) => {
             // A minimal map (grid_size and layers only) is not a full Map2Route map.
@@ -114,6 +127,18 @@ pub fn check_same_map(
 }
 
 pub fn run(args: EvalArgs) -> Result<ExitCode> {
+    if let Some(flag) = [("--start", &args.start), ("--start-cell", &args.start_cell)]
+        .iter()
+        .find_map(|(f, v)| v.is_some().then_some(*f))
+    {
+        return Err(unusable(anyhow::anyhow!(
+            "{flag}: `m2rc eval` takes no start: it scores a route against an episode from the \
+             route's own first cell, as the reference evaluator does (every segment is measured \
+             from where the route actually is)\nhelp: plan the route from the robot's start with \
+             `m2rc compile PROGRAM.m2r --map MAP --episode EPISODE.json {flag} ... -o route.json`, \
+             then score it with `m2rc eval --map MAP --episode EPISODE.json --route route.json`"
+        )));
+    }
     let (map, map_id) = eval_map(&args.map)?;
     let ep_name = display_name(&args.episode);
     let episode = Episode::from_json_str(&read_to_string(&args.episode)?, &ep_name)?;
@@ -132,8 +157,10 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
     let opts = EvalOptions {
         dedup_region_waypoints: args.dedup_region_waypoints,
     };
+    crate::timings::mark("eval: episode and route read");
     let metrics = evaluate(&route, &episode, &map, &opts)
         .with_context(|| format!("{ep_name}: cannot evaluate"))?;
+    crate::timings::mark("eval: scored");
     let validity = route_validity(&route, &map);
     if !validity.valid {
         eprintln!(
@@ -153,6 +180,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
         }
     };
     crate::io::stdout(&out)?;
+    crate::timings::mark("eval: written");
     Ok(ExitCode::SUCCESS)
 }
 

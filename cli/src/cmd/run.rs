@@ -13,7 +13,6 @@ use m2rc_benchmark::methods::grounding2route::lower_and_plan;
 use m2rc_benchmark::pipeline::PipelineOptions;
 use m2rc_compiler::lower::EpisodeOutcome;
 use m2rc_llm::{Backend, Exchange};
-use m2rc_planner::context::MapContext;
 use m2rc_stdlib::render::render_map;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -91,12 +90,10 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
              grounding2route --llm simulated`, or point `m2rc run` at a server with --llm-base-url"
         )));
     }
-    let doc = m2rc_stdlib::load::load_map_with(&args.map, &Default::default())
-        .with_context(|| format!("cannot load map `{}`", args.map))?
-        .0;
-    let frame = m2rc_stdlib::map::frame::MapFrame::of(&doc.map, Some(&doc.extra))
+    let loaded = crate::io::load_map_prepared(&args.map)?;
+    let frame = m2rc_stdlib::map::frame::MapFrame::of(&loaded.doc.map, Some(&loaded.doc.extra))
         .map_err(|e| unusable(anyhow::Error::new(e)))?;
-    let map = doc.map;
+    let map = &loaded.doc.map;
     let start = crate::cmd::route_out::start_from(args.start, args.start_cell, &frame, map.n())?;
     if let Some(s) = start.filter(|s| s.row as usize >= map.n() || s.col as usize >= map.n()) {
         return Err(unusable(anyhow::anyhow!(
@@ -111,8 +108,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
             "--emit mcap writes a binary recording: pass `-o route.mcap`"
         )));
     }
-    let ctx =
-        MapContext::new(&map).map_err(|e| anyhow::anyhow!("the map cannot be planned on: {e}"))?;
+    let ctx = loaded.planning()?;
     let client = match args.llm.http_client() {
         Ok(Some(c)) => c,
         Ok(None) => bail!("no HTTP client"),
@@ -138,7 +134,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     let key = format!("{}/run", map.map_id);
     let (prompt, trace) = lower_and_plan(
         &model,
-        &map,
+        map,
         &ctx,
         &args.instruction,
         &key,
@@ -215,14 +211,14 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     };
     let program = trace.final_program.unwrap_or_default();
     let ir_json = compiled.ir.to_json();
-    let route_json = serde_json::to_string_pretty(&route_document(&compiled, &map))?;
+    let route_json = serde_json::to_string_pretty(&route_document(&compiled, map))?;
     let robot = match args.emit.robot() {
-        Some(kind) => Some(crate::cmd::route_out::emit(kind, &map, &frame, &compiled)?),
+        Some(kind) => Some(crate::cmd::route_out::emit(kind, map, &frame, &compiled)?),
         None => None,
     };
     let png = match &args.png {
         Some(_) => Some(
-            render_map(&map, &render_options(&compiled))
+            render_map(map, &render_options(&compiled))
                 .context("cannot render the route")?
                 .png,
         ),

@@ -5,7 +5,7 @@
 //! work budget (`m2rc_benchmark::budget`) as a benchmark episode, so one request cannot starve the
 //! others. Off loopback every request needs a bearer token, compared in constant time.
 
-use crate::cmd::serve_route::{RouteError, Shared, plan_request};
+use crate::cmd::serve_route::{Model, RouteError, Shared, plan_request};
 use crate::io::{read_to_string, unusable};
 use anyhow::{Context, Result, anyhow};
 use axum::Router;
@@ -50,6 +50,13 @@ pub struct ServeArgs {
     /// is refused with 503.
     #[arg(long, default_value_t = 10.0)]
     pub max_seconds: f64,
+    /// The model `{"instruction": ...}` requests are lowered through, as in `m2rc run`: with
+    /// `--llm-base-url` (or `M2R_LLM_BASE_URL`, or `--llm-cache-only`) the service takes
+    /// instructions; without, it plans `.m2r` programs only.
+    #[command(flatten)]
+    pub llm: m2rc_llm::LlmArgs,
+    #[command(flatten)]
+    pub lower: m2rc_llm::LowerArgs,
 }
 
 pub fn run(args: ServeArgs) -> Result<ExitCode> {
@@ -67,16 +74,21 @@ pub fn run(args: ServeArgs) -> Result<ExitCode> {
             args.listen
         )));
     }
-    let (doc, _) = crate::io::load_map_doc_kind(&args.map)?;
+    let model = model_for(&args)?;
+    let loaded = crate::io::load_map_prepared(&args.map)?;
+    let planning = loaded.planning()?;
+    let doc = loaded.doc;
     let frame = m2rc_stdlib::map::frame::MapFrame::of(&doc.map, Some(&doc.extra))
         .map_err(|e| unusable(anyhow::Error::new(e).context(format!("map `{}`", args.map))))?;
     let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
     let shared = Arc::new(Shared {
         map: doc.map,
+        planning,
         frame,
         max_wall: Duration::from_secs_f64(args.max_seconds),
         slots: tokio::sync::Semaphore::new(workers),
         token: token.map(|t| Sha256::digest(t.as_bytes()).into()),
+        model,
     });
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(workers)
@@ -97,6 +109,49 @@ pub fn run(args: ServeArgs) -> Result<ExitCode> {
             .context("the service stopped")
     })?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The model from the `--llm-*` flags, when they name one (built before the service's runtime:
+/// the HTTP client blocks, and runs on the requests' blocking threads).
+fn model_for(args: &ServeArgs) -> Result<Option<Model>> {
+    use m2rc_llm::Backend;
+    let llm = &args.llm;
+    if !matches!(llm.backend, Backend::Http) {
+        return Err(unusable(anyhow!(
+            "--llm simulated and --llm gold answer from an episode's gold annotations; a service \
+             has no episode: give an OpenAI-compatible server with --llm-base-url"
+        )));
+    }
+    if llm.llm_batch_out.is_some() {
+        return Err(unusable(anyhow!(
+            "--llm-batch-out defers every reply to a batch API, so a request would never get \
+             its route; serve from a server (--llm-base-url) or from the cache (--llm-cache-only)"
+        )));
+    }
+    if llm.llm_base_url.is_none() && !llm.llm_cache_only {
+        return Ok(None);
+    }
+    let client = llm
+        .http_client()
+        .map_err(|e| unusable(anyhow!(e)))?
+        .context("no HTTP client")?;
+    let (store, note) = llm
+        .store(&m2rc_llm::config::default_run_cache())
+        .map_err(|e| unusable(anyhow!(e)))?;
+    if let Some(n) = note {
+        eprintln!("{n}");
+    }
+    let key = llm.api_key().map_err(|e| unusable(anyhow!(e)))?;
+    let budget = m2rc_benchmark::budget::EpisodeBudget::from_args(&args.lower.budget)
+        .map_err(|e| unusable(anyhow!(e)))?;
+    Ok(Some(Model {
+        client,
+        store,
+        key,
+        prompt: args.lower.prompt_options(),
+        repair: args.lower.repair_options(),
+        budget,
+    }))
 }
 
 /// The token from `--token-file` or `M2R_SERVE_TOKEN`; an empty one is refused, never treated as

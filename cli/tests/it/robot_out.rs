@@ -86,3 +86,33 @@ fn robot_outputs_are_deterministic() {
         assert_eq!(bytes[0], bytes[1], "--emit {emit} differs between two runs");
     }
 }
+
+#[test]
+fn eval_takes_no_start_and_says_how_to_score_from_one() {
+    let dir = tempfile::tempdir().unwrap();
+    for (flag, value) in [("--start", "-1.5,2.0"), ("--start-cell", "3,4")] {
+        let r = m2rc(
+            &[
+                "eval",
+                "--map",
+                "demo",
+                "--episode",
+                "ep.json",
+                "--route",
+                "r.json",
+                flag,
+                value,
+            ],
+            dir.path(),
+        )
+        .expect(2);
+        assert!(r.stderr.contains("takes no start"), "{}", r.stderr);
+        assert!(
+            r.stderr.contains(&format!(
+                "m2rc compile PROGRAM.m2r --map MAP --episode EPISODE.json {flag}"
+            )),
+            "{}",
+            r.stderr
+        );
+    }
+}

@@ -14,14 +14,25 @@ struct Server {
 
 impl Server {
     fn start(extra: &[&str], token: Option<&str>) -> Server {
+        match token {
+            Some(t) => Server::start_env(extra, &[("M2R_SERVE_TOKEN", t)]),
+            None => Server::start_env(extra, &[]),
+        }
+    }
+
+    /// A service with `extra` flags and `env` set; no model or token but those given.
+    fn start_env(extra: &[&str], env: &[(&str, &str)]) -> Server {
         let mut cmd = Command::new(bin());
         cmd.args(["serve", "--map", "demo", "--listen", "127.0.0.1:0"])
             .args(extra)
             .env_remove("M2R_SERVE_TOKEN")
+            .env_remove("M2R_LLM_BASE_URL")
+            .env_remove("M2R_LLM_MODEL")
+            .env_remove("M2R_LLM_API_KEY")
             .stdout(Stdio::piped())
             .stderr(Stdio::null());
-        if let Some(t) = token {
-            cmd.env("M2R_SERVE_TOKEN", t);
+        for (k, v) in env {
+            cmd.env(k, v);
         }
         let mut child = cmd.spawn().expect("spawn m2rc serve");
         let mut line = String::new();
@@ -224,5 +235,102 @@ fn load_test_prints_throughput() {
         "serve load: 200 requests in {secs:.2} s = {:.1} requests/s, max latency {:.1} ms",
         200.0 / secs,
         worst.as_secs_f64() * 1e3
+    );
+}
+
+const KEY: &str = "sk-serve-SECRET-4242";
+
+fn reply(program: &str) -> String {
+    json!({"choices": [{"message": {"role": "assistant", "content": format!("Here you go:\n```m2r\n{program}```")}, "finish_reason": "stop"}],
+           "usage": {"prompt_tokens": 2500, "completion_tokens": 40}})
+    .to_string()
+}
+
+/// A service whose model is the mock server at `url`, with its reply cache in `home`.
+fn start_with_model(url: &str, home: &std::path::Path) -> Server {
+    let cache = home.join("llm-cache");
+    Server::start_env(
+        &[
+            "--llm-base-url",
+            url,
+            "--llm-backoff-ms",
+            "1",
+            "--llm-cache",
+            cache.to_str().unwrap(),
+        ],
+        &[("M2R_LLM_API_KEY", KEY)],
+    )
+}
+
+#[test]
+fn an_instruction_goes_through_the_model_and_comes_back_with_its_program_and_route() {
+    let home = tempfile::tempdir().unwrap();
+    let mut llm = mockito::Server::new();
+    // The reply quotes the key (a server that echoes its request): the service must not.
+    let written = format!("route {{\n  go objects(bed).nearest(start)\n}}\n// {KEY}\n");
+    let mock = llm
+        .mock("POST", "/v1/chat/completions")
+        .match_header("authorization", format!("Bearer {KEY}").as_str())
+        .with_body(reply(&written))
+        .expect(1)
+        .create();
+    let s = start_with_model(&format!("{}/v1", llm.url()), home.path());
+    let body = json!({"instruction": "Go to the bed nearest to you."}).to_string();
+    let (status, v) = s.post(body, None);
+    mock.assert();
+    assert_eq!(status, 200, "{v}");
+    let text = v.to_string();
+    assert!(!text.contains(KEY), "the key was echoed: {text}");
+    assert!(
+        v["program"]
+            .as_str()
+            .unwrap()
+            .contains("objects(bed).nearest(start)"),
+        "{v}"
+    );
+    assert!(v["program"].as_str().unwrap().contains("***"), "{v}");
+    assert_eq!(v["instruction"], "Go to the bed nearest to you.");
+    let rounds = v["rounds"].as_array().unwrap();
+    assert_eq!(rounds.len(), 1, "{v}");
+    assert_eq!(rounds[0]["outcome"], "accepted", "{v}");
+    assert!(v["route"]["cells"].as_array().unwrap().len() > 1, "{v}");
+    assert!(v["nav_path"].as_str().unwrap().contains("pose:"));
+    // A program request on the same service is unchanged.
+    assert_eq!(s.post(program("01_smallest_bathroom.m2r"), None).0, 200);
+}
+
+#[test]
+fn a_bad_program_is_repaired_from_its_diagnostics_and_each_round_is_returned() {
+    let home = tempfile::tempdir().unwrap();
+    let mut llm = mockito::Server::new();
+    // A set used as one place: rejected by the checker, sent back with its diagnostic.
+    let first = llm
+        .mock("POST", "/v1/chat/completions")
+        .match_body(mockito::Matcher::Regex("Go to a bed".into()))
+        .with_body(reply("route {\n  go objects(bed)\n}\n"))
+        .expect(1)
+        .create();
+    let second = llm
+        .mock("POST", "/v1/chat/completions")
+        .match_body(mockito::Matcher::Regex("E02|E01|E04".into()))
+        .with_body(reply("route {\n  go objects(bed).nearest(start)\n}\n"))
+        .expect(1)
+        .create();
+    let s = start_with_model(&format!("{}/v1", llm.url()), home.path());
+    let (status, v) = s.post(json!({"instruction": "Go to a bed."}).to_string(), None);
+    first.assert();
+    second.assert();
+    assert_eq!(status, 200, "{v}");
+    let rounds = v["rounds"].as_array().unwrap();
+    assert_eq!(rounds.len(), 2, "{v}");
+    assert_ne!(rounds[0]["outcome"], "accepted", "{v}");
+    assert!(
+        !rounds[0]["diagnostics"].as_array().unwrap().is_empty(),
+        "{v}"
+    );
+    assert_eq!(rounds[1]["outcome"], "accepted", "{v}");
+    assert_eq!(
+        v["program"],
+        "route {\n  go objects(bed).nearest(start)\n}\n"
     );
 }

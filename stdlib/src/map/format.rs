@@ -363,9 +363,11 @@ pub(crate) fn read_map_document_layers(
     };
     extra.top_level = unknown_keys(root, &TOP_KEYS);
 
+    // Counted by runs of equal ids (a room is long runs of its id): one map update per run, not
+    // per cell, which is most of what reading a prepared map would otherwise spend here.
     let mut cell_counts: BTreeMap<u32, usize> = BTreeMap::new();
-    for &v in room_layer.data() {
-        *cell_counts.entry(v).or_insert(0) += 1;
+    for run in room_layer.data().chunk_by(|a, b| a == b) {
+        *cell_counts.entry(run[0]).or_insert(0) += run.len();
     }
 
     let mut rooms = Vec::new();
@@ -426,12 +428,21 @@ pub(crate) fn read_map_document_layers(
         None | Some(Value::Null) => None,
         Some(f) => Some(as_obj(f, "object_footprints", &ctx)?),
     };
-    let mut layer_cells: BTreeMap<u32, Vec<Cell>> = BTreeMap::new();
-    for (cell, &id) in object_layer.iter_cells() {
-        if id != 0 {
-            layer_cells.entry(id).or_default().push(cell);
-        }
-    }
+    // Each object's cells in the object layer: only needed for an object without a footprint
+    // entry, so built on first need.
+    let mut layer_cells: Option<BTreeMap<u32, Vec<Cell>>> = None;
+    let mut cells_of = |id: u32| -> Vec<Cell> {
+        let by_id = layer_cells.get_or_insert_with(|| {
+            let mut by_id: BTreeMap<u32, Vec<Cell>> = BTreeMap::new();
+            for (cell, &id) in object_layer.iter_cells() {
+                if id != 0 {
+                    by_id.entry(id).or_default().push(cell);
+                }
+            }
+            by_id
+        });
+        by_id.get(&id).cloned().unwrap_or_default()
+    };
 
     let mut objects = Vec::new();
     let object_list = as_arr(
@@ -470,7 +481,7 @@ pub(crate) fn read_map_document_layers(
             }
         }
         if footprint.is_empty() {
-            footprint = layer_cells.get(&id).cloned().unwrap_or_default();
+            footprint = cells_of(id);
         }
         let center = match o.get("center_grid") {
             None | Some(Value::Null) => None,
