@@ -303,11 +303,11 @@ fn an_instruction_goes_through_the_model_and_comes_back_with_its_program_and_rou
 fn a_bad_program_is_repaired_from_its_diagnostics_and_each_round_is_returned() {
     let home = tempfile::tempdir().unwrap();
     let mut llm = mockito::Server::new();
-    // A set used as one place: rejected by the checker, sent back with its diagnostic.
+    // A set in a one-place argument: rejected by the checker, sent back with its diagnostic.
     let first = llm
         .mock("POST", "/v1/chat/completions")
         .match_body(mockito::Matcher::Regex("Go to a bed".into()))
-        .with_body(reply("route {\n  go objects(bed)\n}\n"))
+        .with_body(reply("route {\n  go area_near(objects(bed))\n}\n"))
         .expect(1)
         .create();
     let second = llm
