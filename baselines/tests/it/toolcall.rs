@@ -230,9 +230,12 @@ fn text_without_task_and_the_budgets_end_the_conversation() {
         &tmp.path().join("c4"),
         Budgets::default(),
         |turn, _| match turn {
+            // A number where a place belongs: the builder takes the handle, the compiler refuses
+            // it (a set of rooms would not do since a set is a destination: any member).
             0 => calls(&[("rooms", json!({}))]),
-            1 => calls(&[("segment", json!({"target": "set#1"}))]),
-            _ => calls(&[("task", json!({"segments": ["segment#2"]}))]),
+            1 => calls(&[("count", json!({"of": "set#1"}))]),
+            2 => calls(&[("segment", json!({"target": "number#2"}))]),
+            _ => calls(&[("task", json!({"segments": ["segment#3"]}))]),
         },
     );
     assert_eq!(
