@@ -379,15 +379,25 @@ fn gold_and_simulated_runs_and_repairs() {
 /// word misspelt; the repair request must carry its pointer.
 #[test]
 fn direct_id_against_a_mock_server_and_through_a_batch_round_trip() {
+    mock_server_and_batch_round_trip(&DIRECT_ID);
+}
+
+#[test]
+fn catalog_ltl_against_a_mock_server_and_through_a_batch_round_trip() {
+    mock_server_and_batch_round_trip(&ltl::FORM);
+}
+
+/// A misspelt id repaired from its pointer diagnostic, the same record from the cache alone, and
+/// the batch round trip, for a catalog-id form.
+fn mock_server_and_batch_round_trip(form: &'static m2rc_baselines::grounding::directid::Form) {
     let tmp = tempfile::tempdir().unwrap();
     let suite = tmp.path().join("suite");
     build(&suite, 1);
     let (pm, ep, program) = episodes(&suite).remove(0);
     let q = MapQuery::new(&pm.map);
     let start = start_cell(&pm.map, &ep).unwrap();
-    let good = gold_reply(&program, &pm, &q, start)
-        .unwrap()
-        .reply
+    let good = (form.write)(&gold_reply(&program, &pm, &q, start).unwrap().reply)
+        .0
         .to_string();
     let bad = good.replacen("\"object_", "\"obejct_", 1).replacen(
         "\"room_",
@@ -425,14 +435,14 @@ fn direct_id_against_a_mock_server_and_through_a_batch_round_trip() {
         s.embed_http = None;
         s
     };
-    let method = CatalogIds::new(Arc::new(setup(&server.url(), None)), 3, &DIRECT_ID);
+    let method = CatalogIds::new(Arc::new(setup(&server.url(), None)), 3, form);
     let out = tmp.path().join("run");
     runner::run(&method, &opts(&suite, &out)).unwrap();
     let recs = read_records(&out).unwrap();
     assert_eq!(
-        recs[0]["directid"]["success_round"], 1,
+        recs[0][form.name]["success_round"], 1,
         "{}",
-        recs[0]["directid"]
+        recs[0][form.name]
     );
     assert_eq!(recs[0]["status"], "ok");
     calls.assert();
@@ -441,7 +451,7 @@ fn direct_id_against_a_mock_server_and_through_a_batch_round_trip() {
     offline.store = Store::new(Some(ResponseCache::new(&cache)), None, true);
     let out2 = tmp.path().join("run2");
     runner::run(
-        &CatalogIds::new(Arc::new(offline), 3, &DIRECT_ID),
+        &CatalogIds::new(Arc::new(offline), 3, form),
         &opts(&suite, &out2),
     )
     .unwrap();
@@ -450,8 +460,8 @@ fn direct_id_against_a_mock_server_and_through_a_batch_round_trip() {
         v
     };
     assert_eq!(
-        strip(read_records(&out2).unwrap()[0]["directid"].clone()),
-        strip(recs[0]["directid"].clone())
+        strip(read_records(&out2).unwrap()[0][form.name].clone()),
+        strip(recs[0][form.name].clone())
     );
 
     // Batch: export the request, answer it as a provider would, import, run again.
@@ -465,7 +475,7 @@ fn direct_id_against_a_mock_server_and_through_a_batch_round_trip() {
     let exporting = Arc::new(exporting);
     let out3 = tmp.path().join("run3");
     runner::run(
-        &CatalogIds::new(exporting.clone(), 0, &DIRECT_ID),
+        &CatalogIds::new(exporting.clone(), 0, form),
         &opts(&suite, &out3),
     )
     .unwrap();
@@ -489,7 +499,7 @@ fn direct_id_against_a_mock_server_and_through_a_batch_round_trip() {
     again.embed_http = None;
     again.store = Store::new(Some(ResponseCache::new(&cache_b)), None, true);
     runner::run(
-        &CatalogIds::new(Arc::new(again), 0, &DIRECT_ID),
+        &CatalogIds::new(Arc::new(again), 0, form),
         &opts(&suite, &out3),
     )
     .unwrap();
