@@ -26,6 +26,7 @@ mod value;
 
 pub use any_of::Chosen;
 pub use problem::{Level, Problem};
+pub use route::{ir_place, union_place};
 pub use shapes::THROUGH_REACH_M;
 pub use value::{PlaceVal, Pref, Region, Value, WallFollow, room_name};
 

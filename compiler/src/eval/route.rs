@@ -10,7 +10,7 @@ use crate::ir::{
 };
 use m2rc_grammar::ast::{self, ConstraintKind as Kind, Item, RouteItem, Scope, Span, StageItem};
 use m2rc_stdlib::grid::Cell;
-use m2rc_stdlib::query::{Target, WaypointShape};
+use m2rc_stdlib::query::{MapQuery, Target, WaypointShape};
 
 /// A route-level constraint waiting for the stage list, to resolve `during` names.
 struct Pending {
@@ -458,58 +458,68 @@ impl Grounder<'_, '_> {
     }
 
     pub(super) fn ir_place(&self, p: &PlaceVal) -> Place {
-        let q = self.q;
-        let kind = match p {
-            PlaceVal::Object(id) => {
-                let o = q.map().object(*id);
-                PlaceKind::Object {
-                    id: *id,
-                    category: o.map_or(String::new(), |o| o.category.clone()),
-                    room: o.and_then(|o| o.room),
-                }
-            }
-            PlaceVal::Room(id) => PlaceKind::Room {
-                id: *id,
-                category: q
-                    .map()
-                    .room(*id)
-                    .map_or(String::new(), |r| r.category.clone()),
-            },
-            PlaceVal::Region(r) => PlaceKind::Region {
-                construction: r.construction.clone(),
-            },
-        };
-        Place {
-            kind,
-            label: p.label(q),
-            cells: CellSet::new(q.cells(p.target(q)).to_vec()),
-        }
+        ir_place(self.q, p)
     }
 
     /// One place for a non-empty list: itself when single, else a union region.
     pub(super) fn union_place(&self, ps: &[PlaceVal]) -> Place {
-        if ps.len() == 1 {
-            return self.ir_place(&ps[0]);
+        union_place(self.q, ps)
+    }
+}
+
+/// A place of the RouteIR as the compiler writes it (public so that a grounding that does not
+/// go through `.m2r`, such as Direct ID's catalog ids, writes the very same places).
+pub fn ir_place(q: &MapQuery, p: &PlaceVal) -> Place {
+    let kind = match p {
+        PlaceVal::Object(id) => {
+            let o = q.map().object(*id);
+            PlaceKind::Object {
+                id: *id,
+                category: o.map_or(String::new(), |o| o.category.clone()),
+                room: o.and_then(|o| o.room),
+            }
         }
-        let labels: Vec<String> = ps.iter().map(|p| p.label(self.q)).collect();
-        let mut cells = Vec::new();
-        for p in ps {
-            cells.extend_from_slice(self.q.cells(p.target(self.q)));
-        }
-        Place {
-            kind: PlaceKind::Region {
-                construction: Construction {
-                    kind: "union".into(),
-                    from: labels.clone(),
-                    radius_m: None,
-                },
+        PlaceVal::Room(id) => PlaceKind::Room {
+            id: *id,
+            category: q
+                .map()
+                .room(*id)
+                .map_or(String::new(), |r| r.category.clone()),
+        },
+        PlaceVal::Region(r) => PlaceKind::Region {
+            construction: r.construction.clone(),
+        },
+    };
+    Place {
+        kind,
+        label: p.label(q),
+        cells: CellSet::new(q.cells(p.target(q)).to_vec()),
+    }
+}
+
+/// One place for a non-empty list: itself when single, else a union region (the rule for a set).
+pub fn union_place(q: &MapQuery, ps: &[PlaceVal]) -> Place {
+    if ps.len() == 1 {
+        return ir_place(q, &ps[0]);
+    }
+    let labels: Vec<String> = ps.iter().map(|p| p.label(q)).collect();
+    let mut cells = Vec::new();
+    for p in ps {
+        cells.extend_from_slice(q.cells(p.target(q)));
+    }
+    Place {
+        kind: PlaceKind::Region {
+            construction: Construction {
+                kind: "union".into(),
+                from: labels.clone(),
+                radius_m: None,
             },
-            label: if labels.len() <= 3 {
-                labels.join(" + ")
-            } else {
-                format!("{} + {} more", labels[0], labels.len() - 1)
-            },
-            cells: CellSet::new(cells),
-        }
+        },
+        label: if labels.len() <= 3 {
+            labels.join(" + ")
+        } else {
+            format!("{} + {} more", labels[0], labels.len() - 1)
+        },
+        cells: CellSet::new(cells),
     }
 }

@@ -4,7 +4,7 @@
 
 use super::catalog::{START_ID, object_id, room_id};
 use m2rc_compiler::eval::{PlaceVal, Region};
-use m2rc_compiler::ir::{CellSet, Construction, Place, PlaceKind};
+use m2rc_compiler::ir::Construction;
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::query::MapQuery;
 use std::rc::Rc;
@@ -109,59 +109,5 @@ pub fn area_near(q: &MapQuery, x: &PlaceVal, within_m: f64) -> Option<PlaceVal> 
     ))
 }
 
-/// A place of the RouteIR, as the compiler writes it.
-pub fn ir_place(q: &MapQuery, p: &PlaceVal) -> Place {
-    let kind = match p {
-        PlaceVal::Object(id) => {
-            let o = q.map().object(*id);
-            PlaceKind::Object {
-                id: *id,
-                category: o.map_or(String::new(), |o| o.category.clone()),
-                room: o.and_then(|o| o.room),
-            }
-        }
-        PlaceVal::Room(id) => PlaceKind::Room {
-            id: *id,
-            category: q
-                .map()
-                .room(*id)
-                .map_or(String::new(), |r| r.category.clone()),
-        },
-        PlaceVal::Region(r) => PlaceKind::Region {
-            construction: r.construction.clone(),
-        },
-    };
-    Place {
-        kind,
-        label: p.label(q),
-        cells: CellSet::new(q.cells(p.target(q)).to_vec()),
-    }
-}
-
-/// One place for a non-empty list: itself when single, else a union region (the compiler's
-/// rule for a set).
-pub fn union_place(q: &MapQuery, ps: &[PlaceVal]) -> Place {
-    if ps.len() == 1 {
-        return ir_place(q, &ps[0]);
-    }
-    let labels: Vec<String> = ps.iter().map(|p| p.label(q)).collect();
-    let mut cells = Vec::new();
-    for p in ps {
-        cells.extend_from_slice(q.cells(p.target(q)));
-    }
-    Place {
-        kind: PlaceKind::Region {
-            construction: Construction {
-                kind: "union".into(),
-                from: labels.clone(),
-                radius_m: None,
-            },
-        },
-        label: if labels.len() <= 3 {
-            labels.join(" + ")
-        } else {
-            format!("{} + {} more", labels[0], labels.len() - 1)
-        },
-        cells: CellSet::new(cells),
-    }
-}
+/// The RouteIR's places, written as the compiler writes them.
+pub use m2rc_compiler::eval::{ir_place, union_place};
