@@ -437,13 +437,21 @@ impl Episode {
         }
         // Whole-number floats (`[223.0, 117.0]`, as Python writers emit them) are read as the
         // integers they are; the source value is kept as it was for faithful writing.
-        let typed = crate::episode_check::integral_floats_as_ints(&value);
-        let mut episode: Episode =
-            serde_path_to_error::deserialize(&typed).map_err(|e| EpisodeError::Field {
+        // Copied only when there is one to convert: most files have none, and a copy of a
+        // 100 KB episode's tree was a large part of a cached `m2rc eval`.
+        let converted = crate::episode_check::has_integral_float(&value)
+            .then(|| crate::episode_check::integral_floats_as_ints(&value));
+        let typed = converted.as_ref().unwrap_or(&value);
+        // The plain deserializer first; the path-tracking one (slower) only to name the path of
+        // an error.
+        let mut episode: Episode = match Episode::deserialize(typed) {
+            Ok(e) => e,
+            Err(_) => serde_path_to_error::deserialize(typed).map_err(|e| EpisodeError::Field {
                 file: file.to_string(),
                 path: e.path().to_string(),
                 message: e.inner().to_string(),
-            })?;
+            })?,
+        };
         episode.origin.json = Some(Arc::new(value));
         Ok(episode)
     }

@@ -207,6 +207,19 @@ pub fn episode_problems(ep: &Episode, n: Option<usize>) -> Vec<EpisodeProblem> {
     out
 }
 
+/// Whether [`integral_floats_as_ints`] would change anything in `value`.
+pub fn has_integral_float(value: &serde_json::Value) -> bool {
+    use serde_json::Value;
+    match value {
+        Value::Number(n) if n.is_f64() => n
+            .as_f64()
+            .is_some_and(|x| x.fract() == 0.0 && x.abs() < 9.0e15),
+        Value::Array(a) => a.iter().any(has_integral_float),
+        Value::Object(o) => o.values().any(has_integral_float),
+        _ => false,
+    }
+}
+
 /// A copy of `value` with every float that is a whole number (`223.0`) written as an integer,
 /// as the reference tools' Python writer sometimes emits cells; other numbers are unchanged.
 pub fn integral_floats_as_ints(value: &serde_json::Value) -> serde_json::Value {

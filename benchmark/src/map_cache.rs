@@ -20,7 +20,7 @@
 use m2rc_planner::context::{MapContext, OBSTACLE_FIELD_TAG};
 use m2rc_stdlib::map::MapDocument;
 use m2rc_stdlib::map::prepared::{
-    FieldRef, PreparedError, Source, decode_prepared, encode_prepared, read_header,
+    FieldRef, PreparedError, PreparedReader, Source, encode_prepared,
 };
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
@@ -119,17 +119,25 @@ impl Entry {
 
     /// The prepared map, when a usable one is cached.
     pub fn get(&mut self) -> Option<Loaded> {
-        let bytes = std::fs::read(&self.path).ok()?;
-        let vouched = read_header(&bytes).is_ok_and(|h| trusted(h.stamp, &self.stamp));
-        let decoded = if vouched {
-            decode_prepared(&bytes, Source::Vouched, &self.label)
-        } else {
-            let label = self.label.clone();
-            let source = self.source()?;
-            decode_prepared(&bytes, Source::Bytes(source), &label)
+        let file = std::fs::File::open(&self.path).ok()?;
+        let len = file.metadata().ok()?.len();
+        let input = std::io::BufReader::with_capacity(1 << 16, file);
+        let decoded = match PreparedReader::open(input, len) {
+            Ok(reader) => {
+                let vouched = trusted(&reader.header().stamp, &self.stamp);
+                let label = self.label.clone();
+                if vouched {
+                    reader.decode(Source::Vouched, &label)
+                } else {
+                    let source = self.source()?;
+                    reader.decode(Source::Bytes(source), &label)
+                }
+                .map(|p| (p, vouched))
+            }
+            Err(e) => Err(e),
         };
         match decoded {
-            Ok(p) => {
+            Ok((p, vouched)) => {
                 let obstacle_sq = p
                     .obstacle_sq
                     .filter(|(tag, _)| *tag == OBSTACLE_FIELD_TAG)
@@ -349,7 +357,7 @@ mod tests {
         assert!(!fresh.fields().seed_obstacle_sq(Arc::new(other.clone())));
         assert_eq!(fresh.fields().obstacle_sq(), sq, "computed instead");
         let eval = crate::metrics::map::EvalMap::from_semantic_map(&doc.map);
-        assert!(!eval.seed_clearance_sq(&other));
+        assert!(!eval.seed_clearance_sq(&Arc::new(other)));
         assert_eq!(eval.clearance_field(), computed.clearance_field());
     }
 

@@ -66,7 +66,7 @@ pub fn verify(ir: &RouteIr, q: &MapQuery) -> Vec<Problem> {
             ),
         ));
     }
-    let from_start = TravelField::new(q.traversable(), &[ir.start], q.res());
+    let from_start = TravelField::reachable(q.traversable(), &[ir.start]);
     let mut ids = BTreeSet::new();
     for c in &ir.constraints {
         if !ids.insert(c.id.as_str()) {
@@ -191,7 +191,7 @@ pub fn verify(ir: &RouteIr, q: &MapQuery) -> Vec<Problem> {
                 ));
                 continue;
             }
-            if from_start.to(&band).is_none() {
+            if !band.iter().any(|&c| from_start.get(c) == Some(&true)) {
                 out.push(
                     err(codes::TARGET_UNREACHABLE, span, format!("{} cannot be reached from the start", place.label))
                         .note("no path over free cells joins the start and this place, whatever the constraints"),

@@ -175,7 +175,7 @@ pub fn prepare(p: &PlanProblem) -> Result<Prepared, PlanFailure> {
                     obstacle_sq: &d,
                     runs: &[],
                 };
-                layout.pad(&costfield::clearance_field(&ctx), 0.0)
+                costfield::clearance_field_padded(&ctx, &layout)
             };
             let radius = p.profile.cells(p.profile.clearance_radius_m, p.resolution);
             match shared {

@@ -338,6 +338,27 @@ pub fn clearance_field(ctx: &FieldContext<'_>) -> Vec<f64> {
         .collect()
 }
 
+/// [`clearance_field`] written straight into the padded layout (zero on the border): the planner's
+/// form, without a second full-grid array to copy from.
+pub fn clearance_field_padded(ctx: &FieldContext<'_>, layout: &crate::layout::Layout) -> Vec<f64> {
+    let mut out = vec![0.0; layout.len()];
+    let p = ctx.profile;
+    if !p.clearance || p.clearance_weight == 0.0 || ctx.n == 0 {
+        return out;
+    }
+    let radius = p.cells(p.clearance_radius_m, ctx.resolution);
+    let r2 = radius * radius;
+    for (r, row) in ctx.obstacle_sq.chunks_exact(ctx.n).enumerate() {
+        let start = (r + 1) * layout.w + 1;
+        for (o, &sq) in out[start..start + ctx.n].iter_mut().zip(row) {
+            if (sq as f64) < r2 {
+                *o = clearance_cost((sq as f64).sqrt(), radius, p.clearance_weight);
+            }
+        }
+    }
+    out
+}
+
 /// Adds one soft term to Φ (padded layout of side `n + 2`), on traversable cells.
 pub fn add_term(
     phi: &mut [f64],
@@ -508,6 +529,34 @@ mod tests {
 
     fn field(n: usize, res: f64, t: &SoftTerm) -> Vec<f64> {
         field_blocked(n, res, t, &[])
+    }
+
+    #[test]
+    fn the_padded_clearance_field_is_the_plain_one_padded() {
+        let n = 9;
+        let p = CostProfile::reference();
+        // Squared distances to a wall along row 0 and one obstacle in the middle.
+        let od: Vec<u32> = (0..n * n)
+            .map(|i| {
+                let (r, c) = ((i / n) as i64, (i % n) as i64);
+                let mid = (r - 4).pow(2) + (c - 4).pow(2);
+                (r * r).min(mid) as u32
+            })
+            .collect();
+        for res in [0.05, 0.1, 0.5] {
+            let ctx = FieldContext {
+                n,
+                resolution: res,
+                profile: &p,
+                obstacle_sq: &od,
+                runs: &[],
+            };
+            let l = Layout::new(n);
+            let padded = clearance_field_padded(&ctx, &l);
+            let plain = clearance_field(&ctx);
+            assert!(plain.iter().any(|&v| v > 0.0), "resolution {res}");
+            assert_eq!(padded, l.pad(&plain, 0.0), "resolution {res}");
+        }
     }
 
     #[test]

@@ -13,10 +13,8 @@ use crate::osgllm::method::{START_SNAP_CELLS, SessionAsk};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap};
 use m2rc_stdlib::grid::Cell;
-use m2rc_stdlib::map::SemanticMap;
 use serde_json::{Value, json};
-use std::collections::BTreeMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// A map's inventory and traversability, built once per map.
 pub struct MapView {
@@ -26,7 +24,6 @@ pub struct MapView {
 
 pub struct LtlCodeGen {
     pub setup: Arc<ModelSetup>,
-    views: Mutex<BTreeMap<String, Arc<MapView>>>,
 }
 
 pub fn make(setup: Arc<ModelSetup>) -> Box<dyn Method> {
@@ -35,32 +32,20 @@ pub fn make(setup: Arc<ModelSetup>) -> Box<dyn Method> {
 
 impl LtlCodeGen {
     pub fn new(setup: Arc<ModelSetup>) -> Self {
-        LtlCodeGen {
-            setup,
-            views: Mutex::new(BTreeMap::new()),
-        }
+        LtlCodeGen { setup }
     }
 
-    pub fn view(&self, map: &SemanticMap) -> Arc<MapView> {
-        if let Ok(v) = self.views.lock()
-            && let Some(x) = v.get(&map.map_id)
-        {
-            return x.clone();
-        }
-        let n = map.n();
-        let built = Arc::new(MapView {
-            inventory: Inventory::build(map),
-            traversable: (0..n * n)
-                .map(|i| map.is_free(Cell::new((i / n) as u32, (i % n) as u32)))
-                .collect(),
-        });
-        if let Ok(mut v) = self.views.lock() {
-            if v.len() >= 4 {
-                v.clear();
+    /// The map's inventory and traversability, built once per map and kept with it.
+    pub fn view(&self, map: &PreparedMap) -> Arc<MapView> {
+        map.derived(|map| {
+            let n = map.n();
+            MapView {
+                inventory: Inventory::build(map),
+                traversable: (0..n * n)
+                    .map(|i| map.is_free(Cell::new((i / n) as u32, (i % n) as u32)))
+                    .collect(),
             }
-            v.insert(map.map_id.clone(), built.clone());
-        }
-        built
+        })
     }
 }
 
@@ -87,7 +72,7 @@ impl Method for LtlCodeGen {
     }
 
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
-        let view = self.view(&map.map);
+        let view = self.view(map);
         let pose = start_cell(&map.map, episode)?;
         let mut session = Session::new(&self.setup, NAME, &map.map.map_id, episode);
         let Some(start) =

@@ -13,16 +13,12 @@ use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap};
 use m2rc_compiler::lower::Message;
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// How far from the start pose the start may be moved onto a traversable cell (4 m).
 pub const START_SNAP_CELLS: u32 = 80;
-/// Scene graphs kept at once (one per map; the runner works map by map).
-const GRAPH_CACHE: usize = 4;
-
 pub struct OsgLlm {
     pub setup: Arc<ModelSetup>,
-    graphs: Mutex<BTreeMap<String, Arc<SceneGraph>>>,
 }
 
 pub fn make(setup: Arc<ModelSetup>) -> Box<dyn Method> {
@@ -31,26 +27,12 @@ pub fn make(setup: Arc<ModelSetup>) -> Box<dyn Method> {
 
 impl OsgLlm {
     pub fn new(setup: Arc<ModelSetup>) -> Self {
-        OsgLlm {
-            setup,
-            graphs: Mutex::new(BTreeMap::new()),
-        }
+        OsgLlm { setup }
     }
 
-    pub fn graph(&self, map: &m2rc_stdlib::map::SemanticMap) -> Arc<SceneGraph> {
-        if let Ok(g) = self.graphs.lock()
-            && let Some(x) = g.get(&map.map_id)
-        {
-            return x.clone();
-        }
-        let built = Arc::new(SceneGraph::build(map));
-        if let Ok(mut g) = self.graphs.lock() {
-            if g.len() >= GRAPH_CACHE {
-                g.clear();
-            }
-            g.insert(map.map_id.clone(), built.clone());
-        }
-        built
+    /// The map's scene graph, built once per map and kept with it.
+    pub fn graph(&self, map: &PreparedMap) -> Arc<SceneGraph> {
+        map.derived(SceneGraph::build)
     }
 }
 
@@ -108,7 +90,7 @@ impl Method for OsgLlm {
     }
 
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
-        let graph = self.graph(&map.map);
+        let graph = self.graph(map);
         let pose = start_cell(&map.map, episode)?;
         let mut session = Session::new(&self.setup, NAME, &map.map.map_id, episode);
         let mut block = serde_json::Map::new();

@@ -63,7 +63,14 @@ pub struct PreparedMap {
     planning: OnceLock<Result<MapContext, String>>,
     /// The obstacle field loaded with the map (the prepared-map cache's), for the planner.
     obstacle_sq: Option<std::sync::Arc<Vec<u32>>>,
+    /// What methods derived from this map for all its episodes (see [`Self::derived`]).
+    derived: std::sync::Mutex<Vec<Derived>>,
 }
+
+type Derived = (
+    std::any::TypeId,
+    std::sync::Arc<dyn std::any::Any + Send + Sync>,
+);
 
 impl PreparedMap {
     pub fn new(map: SemanticMap) -> Self {
@@ -86,7 +93,40 @@ impl PreparedMap {
             eval,
             planning: OnceLock::new(),
             obstacle_sq,
+            derived: std::sync::Mutex::new(Vec::new()),
         }
+    }
+
+    /// The value of type `T` a method derives from this map (a scene graph, an inventory), built
+    /// by `make` on first use and shared by every episode on the map. It lives with the map, so
+    /// it is freed with it and can never be read for another map, which a method's own cache
+    /// keyed by map id could (two maps may share an id).
+    pub fn derived<T: std::any::Any + Send + Sync>(
+        &self,
+        make: impl FnOnce(&SemanticMap) -> T,
+    ) -> std::sync::Arc<T> {
+        let key = std::any::TypeId::of::<T>();
+        let find = |slots: &[Derived]| {
+            slots
+                .iter()
+                .find(|(k, _)| *k == key)
+                .and_then(|(_, v)| v.clone().downcast::<T>().ok())
+        };
+        let lock = || match self.derived.lock() {
+            Ok(g) => g,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        if let Some(v) = find(&lock()) {
+            return v;
+        }
+        // Built outside the lock; a thread that built it meanwhile wins.
+        let built = std::sync::Arc::new(make(&self.map));
+        let mut slots = lock();
+        if let Some(v) = find(&slots) {
+            return v;
+        }
+        slots.push((key, built.clone()));
+        built
     }
 
     /// The planner's context for this map.
@@ -145,4 +185,38 @@ pub fn start_cell(map: &SemanticMap, episode: &Episode) -> Result<Cell, MethodEr
     Err(MethodError(
         "the episode has no start_pose and no expert trajectory".into(),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_derived_value_is_built_once_per_map_and_never_crosses_maps() {
+        let demo = || {
+            m2rc_stdlib::demo::demo_document(&Default::default())
+                .unwrap()
+                .map
+        };
+        let a = PreparedMap::new(demo());
+        let mut other = demo();
+        other.objects.pop();
+        let b = PreparedMap::new(other);
+        assert_eq!(a.map.map_id, b.map.map_id, "the same id, other contents");
+        let builds = std::sync::atomic::AtomicUsize::new(0);
+        let count = |m: &SemanticMap| {
+            builds.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            m.objects.len()
+        };
+        let first = a.derived(count);
+        let again = a.derived(|_: &SemanticMap| -> usize { unreachable!("built once") });
+        assert!(std::sync::Arc::ptr_eq(&first, &again));
+        assert_eq!(*b.derived(count), *first - 1);
+        assert_eq!(builds.load(std::sync::atomic::Ordering::Relaxed), 2);
+        // Another type is another slot.
+        assert_eq!(
+            *a.derived(|m| m.rooms.len() as u32),
+            a.map.rooms.len() as u32
+        );
+    }
 }

@@ -9,7 +9,8 @@ use m2rc_stdlib::grid::Grid;
 use m2rc_stdlib::map::SemanticMap;
 use serde_json::Value;
 use std::collections::HashMap;
-use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, OnceLock};
 
 /// Object categories that do not count as clearance obstacles (door openings).
 pub const TRAVERSABLE_OBJECT_CATEGORIES: [&str; 2] = ["doorframe", "doorway"];
@@ -54,7 +55,49 @@ pub struct EvalMap {
     obstacles: Option<Vec<bool>>,
     /// Bit k set when move `MOVES[k]` out of the cell is legal by traversability alone.
     legal_moves: OnceLock<Vec<u8>>,
-    clearance: OnceLock<Option<Grid<f64>>>,
+    /// Oracle searches started on this map (see [`Self::legal_for_search`]).
+    searches: AtomicU32,
+    clearance: OnceLock<Option<Clearance>>,
+    /// Squared distances offered by [`Self::seed_clearance_sq`] and found to be this map's.
+    clearance_seed: OnceLock<Arc<Vec<u32>>>,
+}
+
+/// The distance from every cell centre to the nearest obstacle cell centre, in cells (exact
+/// float64). A route reads a few hundred cells of it, so a field stored as squared distances
+/// (the prepared-map cache's) is read through, a square root per cell read, instead of being
+/// converted whole.
+#[derive(Debug, Clone)]
+pub enum Clearance {
+    Exact(Grid<f64>),
+    Squared { n: usize, squared: Arc<Vec<u32>> },
+}
+
+impl Clearance {
+    pub fn n(&self) -> usize {
+        match self {
+            Clearance::Exact(g) => g.n(),
+            Clearance::Squared { n, .. } => *n,
+        }
+    }
+
+    /// The distance at row-major index `i` (which must be inside the grid).
+    pub fn at(&self, i: usize) -> f64 {
+        match self {
+            Clearance::Exact(g) => g.data()[i],
+            Clearance::Squared { squared, .. } => (squared[i] as f64).sqrt(),
+        }
+    }
+
+    /// Every cell's distance, row-major.
+    pub fn to_vec(&self) -> Vec<f64> {
+        (0..self.n() * self.n()).map(|i| self.at(i)).collect()
+    }
+}
+
+impl PartialEq for Clearance {
+    fn eq(&self, other: &Self) -> bool {
+        self.n() == other.n() && self.to_vec() == other.to_vec()
+    }
 }
 
 impl EvalMap {
@@ -71,7 +114,9 @@ impl EvalMap {
             traversable,
             obstacles,
             legal_moves: OnceLock::new(),
+            searches: AtomicU32::new(0),
             clearance: OnceLock::new(),
+            clearance_seed: OnceLock::new(),
         }
     }
 
@@ -208,40 +253,45 @@ impl EvalMap {
             let Some(t) = &self.traversable else {
                 return Vec::new();
             };
-            let n = self.n as i64;
-            let free =
-                |r: i64, c: i64| r >= 0 && c >= 0 && r < n && c < n && t[(r * n + c) as usize];
-            let mut out = vec![0u8; t.len()];
-            for r in 0..n {
-                for c in 0..n {
-                    let mut bits = 0u8;
-                    for (k, &(dr, dc, _)) in MOVES.iter().enumerate() {
-                        let (nr, nc) = (r + dr, c + dc);
-                        let ok = free(nr, nc)
-                            && diagonal_corners([r, c], [nr, nc])
-                                .is_none_or(|cs| cs.iter().all(|&[cr, cc]| free(cr, cc)));
-                        if ok {
-                            bits |= 1 << k;
-                        }
-                    }
-                    out[(r * n + c) as usize] = bits;
-                }
-            }
-            out
+            (0..t.len()).map(|i| legal_bits(t, self.n, i)).collect()
+        })
+    }
+
+    /// The legal moves for an oracle search: the table when it exists or this map has been
+    /// searched before (a run scores many segments on one map), else read cell by cell, since
+    /// one search visits a small part of a suite map and the whole table was a third of a
+    /// single `m2rc eval`. `None` when the map has no occupancy layer.
+    pub(crate) fn legal_for_search(&self) -> Option<Legal<'_>> {
+        let t = self.traversable.as_deref()?;
+        if let Some(table) = self.legal_moves.get() {
+            return Some(Legal::Table(table));
+        }
+        if self.searches.fetch_add(1, Ordering::Relaxed) > 0 {
+            return Some(Legal::Table(self.legal_moves()));
+        }
+        Some(Legal::Cells {
+            traversable: t,
+            n: self.n,
         })
     }
 
     /// Distance from every cell centre to the nearest obstacle cell centre, in cells (exact
     /// float64); `None` when the map has no obstacle at all.
-    pub fn clearance_field(&self) -> Option<&Grid<f64>> {
+    pub fn clearance_field(&self) -> Option<&Clearance> {
         self.clearance
             .get_or_init(|| {
+                if let Some(squared) = self.clearance_seed.get() {
+                    return Some(Clearance::Squared {
+                        n: self.n,
+                        squared: squared.clone(),
+                    });
+                }
                 let obstacles = self.obstacles.as_ref()?;
                 if !obstacles.iter().any(|&b| b) {
                     return None;
                 }
                 let sources = Grid::from_vec(self.n, obstacles.clone())?;
-                Some(distance_field(&sources))
+                Some(Clearance::Exact(distance_field(&sources)))
             })
             .as_ref()
     }
@@ -250,7 +300,7 @@ impl EvalMap {
     /// cache's, by the planner's rule): used for [`Self::clearance_field`] when its zero cells are
     /// exactly this map's clearance obstacles, which makes its square roots the exact field; else
     /// ignored. Whether it was used.
-    pub fn seed_clearance_sq(&self, squared: &[u32]) -> bool {
+    pub fn seed_clearance_sq(&self, squared: &Arc<Vec<u32>>) -> bool {
         let Some(obstacles) = &self.obstacles else {
             return false;
         };
@@ -260,8 +310,7 @@ impl EvalMap {
         if !fits {
             return false;
         }
-        let field = squared.iter().map(|&d| (d as f64).sqrt()).collect();
-        self.clearance.set(Grid::from_vec(self.n, field)).is_ok()
+        self.clearance.get().is_none() && self.clearance_seed.set(squared.clone()).is_ok()
     }
 
     /// Distance from an arbitrary point to the nearest obstacle cell centre, by scanning (used
@@ -277,6 +326,40 @@ impl EvalMap {
             .map(|(i, _)| (p[0] - (i / self.n) as f64).hypot(p[1] - (i % self.n) as f64))
             .fold(f64::INFINITY, f64::min)
     }
+}
+
+/// Where an oracle search reads a cell's legal moves from.
+pub(crate) enum Legal<'a> {
+    Table(&'a [u8]),
+    Cells { traversable: &'a [bool], n: usize },
+}
+
+impl Legal<'_> {
+    /// Bit k set when `MOVES[k]` out of row-major cell `i` is legal.
+    pub(crate) fn at(&self, i: usize) -> u8 {
+        match self {
+            Legal::Table(t) => t[i],
+            Legal::Cells { traversable, n } => legal_bits(traversable, *n, i),
+        }
+    }
+}
+
+/// The legal-move bits of cell `i` of an `n` x `n` grid with traversability `t`.
+fn legal_bits(t: &[bool], n: usize, i: usize) -> u8 {
+    let n = n as i64;
+    let (r, c) = ((i as i64) / n, (i as i64) % n);
+    let free = |r: i64, c: i64| r >= 0 && c >= 0 && r < n && c < n && t[(r * n + c) as usize];
+    let mut bits = 0u8;
+    for (k, &(dr, dc, _)) in MOVES.iter().enumerate() {
+        let (nr, nc) = (r + dr, c + dc);
+        let ok = free(nr, nc)
+            && diagonal_corners([r, c], [nr, nc])
+                .is_none_or(|cs| cs.iter().all(|&[cr, cc]| free(cr, cc)));
+        if ok {
+            bits |= 1 << k;
+        }
+    }
+    bits
 }
 
 fn object_blocks<'a>(id: i64, category: &dyn Fn(i64) -> Option<&'a str>) -> bool {
@@ -360,8 +443,8 @@ mod tests {
         assert!(m.is_traversable(1, 1));
         let f = m.clearance_field().unwrap();
         // (1,1) is a doorway: not an obstacle; nearest obstacles are (0,0) and (2,2).
-        assert_eq!(f.data()[4], 2f64.sqrt());
-        assert_eq!(f.data()[8], 0.0);
+        assert_eq!(f.at(4), 2f64.sqrt());
+        assert_eq!(f.at(8), 0.0);
     }
 
     #[test]
@@ -388,5 +471,29 @@ mod tests {
         assert_ne!(moves[0] & (1 << 1), 0);
         assert_eq!(moves[0] & (1 << 3), 0);
         assert_eq!(moves[0] & (1 << 7), 0);
+    }
+
+    #[test]
+    fn a_search_reads_the_same_moves_cell_by_cell_as_from_the_table() {
+        let n = 13;
+        // A pseudo-random pattern of blocked cells, corners included.
+        let t: Vec<bool> = (0..n * n).map(|i| (i * 7919 + i / n) % 5 != 0).collect();
+        let m = EvalMap::from_parts(n, 0.05, Some(t), None);
+        let Some(Legal::Cells { .. }) = m.legal_for_search() else {
+            panic!("the first search of a map reads cells");
+        };
+        let Some(Legal::Table(table)) = m.legal_for_search() else {
+            panic!("the second builds the table");
+        };
+        let cells = Legal::Cells {
+            traversable: m.traversable().unwrap(),
+            n,
+        };
+        assert!(table.iter().any(|&b| b != 0 && b != 0xff));
+        for (i, &bits) in table.iter().enumerate() {
+            assert_eq!(cells.at(i), bits, "cell {i}");
+        }
+        let none = EvalMap::from_parts(n, 0.05, None, None);
+        assert!(none.legal_for_search().is_none());
     }
 }

@@ -8,7 +8,7 @@
 //! Dijkstra (up to floating-point summation order). Buffers are reused per thread.
 
 use super::geometry::{Geom, Point};
-use super::map::{EvalMap, MOVES};
+use super::map::{EvalMap, Legal, MOVES};
 use std::cell::RefCell;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -50,21 +50,17 @@ pub(crate) fn shortest_legal_length(
     if target.contains_cell(start[0], start[1]) {
         return Some(0.0);
     }
-    let n = map.n();
-    let legal = map.legal_moves();
-    if legal.len() != n * n {
-        return None;
-    }
+    let legal = map.legal_for_search()?;
     BUFFERS.with(|b| {
         let mut b = b.borrow_mut();
-        search(&mut b, map, legal, start, target, avoids)
+        search(&mut b, map, &legal, start, target, avoids)
     })
 }
 
 fn search(
     b: &mut Buffers,
     map: &EvalMap,
-    legal: &[u8],
+    legal: &Legal<'_>,
     start: [i64; 2],
     target: &Geom,
     avoids: &[&Geom],
@@ -179,7 +175,7 @@ fn search(
         b.closed[u] = generation;
         let (ur, uc) = (u / n, u % n);
         let gu = b.g[u];
-        let bits = legal[u];
+        let bits = legal.at(u);
         for (k, &(dr, dc, cost)) in MOVES.iter().enumerate() {
             if bits & (1 << k) == 0 {
                 continue;

@@ -358,7 +358,7 @@ pub(crate) fn clearance(active: &[Point], map: &EvalMap, d: &mut SoftDetail) {
         .map(|p| {
             let (r, c) = (p[0] as i64, p[1] as i64);
             if map.in_grid(r, c) {
-                field.data()[r as usize * n + c as usize]
+                field.at(r as usize * n + c as usize)
             } else {
                 map.nearest_obstacle_distance(*p)
             }

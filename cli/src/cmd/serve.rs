@@ -239,6 +239,15 @@ async fn map_summary(State(s): State<Arc<Shared>>) -> Response {
     axum::Json(info).into_response()
 }
 
+/// Gives a worker slot back when dropped (the planning thread ended, or its task never ran).
+struct Release(Arc<Shared>);
+
+impl Drop for Release {
+    fn drop(&mut self) {
+        self.0.slots.add_permits(1);
+    }
+}
+
 async fn route(State(s): State<Arc<Shared>>, body: Result<Bytes, BytesRejection>) -> Response {
     let body = match body {
         Ok(b) => b,
@@ -249,16 +258,24 @@ async fn route(State(s): State<Arc<Shared>>, body: Result<Bytes, BytesRejection>
             return error(status, &rej.body_text(), help);
         }
     };
-    let Ok(_slot) = s.slots.acquire().await else {
+    let Ok(slot) = s.slots.acquire().await else {
         return error(
             StatusCode::SERVICE_UNAVAILABLE,
             "the service is stopping",
             None,
         );
     };
+    // The slot goes back when the planning thread ends, not when the answer leaves: a request
+    // answered "too slow" keeps its thread until its own budget stops it, and slow requests
+    // must not add threads beyond one per core meanwhile.
+    slot.forget();
+    let release = Release(s.clone());
     let shared = s.clone();
     let limit = s.max_wall + Duration::from_secs(1);
-    let work = tokio::task::spawn_blocking(move || plan_request(&shared, &body));
+    let work = tokio::task::spawn_blocking(move || {
+        let _release = release;
+        plan_request(&shared, &body)
+    });
     match tokio::time::timeout(limit, work).await {
         Ok(Ok(Ok(body))) => (StatusCode::OK, axum::Json(body)).into_response(),
         Ok(Ok(Err(RouteError { status, body }))) => (status, axum::Json(body)).into_response(),

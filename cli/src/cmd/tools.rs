@@ -23,8 +23,12 @@ use serde_json::{Value, json};
 use std::io::{BufRead, Write};
 use std::process::ExitCode;
 
-/// The MCP revision this server speaks when the client names none.
+/// The MCP revision this server answers with when the client asks for none it speaks.
 pub const PROTOCOL_VERSION: &str = "2025-06-18";
+
+/// The MCP revisions whose `initialize`, `ping`, `tools/list` and `tools/call` this server
+/// answers as they define them (later ones only add fields an earlier client ignores).
+pub const SUPPORTED_VERSIONS: &[&str] = &[PROTOCOL_VERSION, "2025-03-26", "2024-11-05"];
 
 #[derive(Args, Debug)]
 pub struct ToolsArgs {
@@ -95,8 +99,11 @@ impl<'m> Server<'m> {
         let params = obj.get("params").cloned().unwrap_or(Value::Null);
         Some(match method {
             "initialize" => {
+                // The MCP rule: the client's version when this server speaks it, else the
+                // latest it does (the client then decides whether to go on).
                 let version = params["protocolVersion"]
                     .as_str()
+                    .filter(|v| SUPPORTED_VERSIONS.contains(v))
                     .unwrap_or(PROTOCOL_VERSION)
                     .to_string();
                 result(

@@ -90,6 +90,11 @@ fn an_agent_initializes_lists_calls_and_gets_a_route() {
     );
     assert_eq!(init["result"]["protocolVersion"], "2025-06-18");
     assert!(init["result"]["capabilities"]["tools"].is_object());
+    // An older revision it speaks is kept; one it does not know gets its latest.
+    let older = s.request(9, "initialize", json!({"protocolVersion": "2024-11-05"}));
+    assert_eq!(older["result"]["protocolVersion"], "2024-11-05");
+    let unknown = s.request(10, "initialize", json!({"protocolVersion": "1999-01-01"}));
+    assert_eq!(unknown["result"]["protocolVersion"], "2025-06-18");
     // A notification gets no answer: the next line answers the next request.
     s.send_raw(r#"{"jsonrpc":"2.0","method":"notifications/initialized"}"#);
     let list = s.request(2, "tools/list", json!({}));

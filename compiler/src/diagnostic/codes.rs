@@ -302,29 +302,29 @@ codes! {
 
     // --- E08xx: the LTL backend (compiler::ltl, planner::product) ----------------------------
     LtlSyntax = "E0801", Error, "malformed LTL formula",
-        "";
+        "let sofa = objects(sofa).only()\nroute ltl \"F & sofa\" {}";
     LtlUnsupported = "E0802", Error, "unsupported operator in an LTL formula",
-        "";
+        "let sofa = objects(sofa).only()\nroute ltl \"F (sofa S sofa)\" {}";
     LtlUnbalanced = "E0803", Error, "unbalanced parentheses in an LTL formula",
-        "";
+        "let sofa = objects(sofa).only()\nroute ltl \"F (sofa\" {}";
     LtlUnknownAtom = "E0804", Error, "unknown atom in an LTL formula",
         "";
     LtlNotPlace = "E0805", Error, "LTL atom is not a place",
-        "";
+        "let n = objects(bed).count()\nroute ltl \"F n\" {}";
     LtlInfiniteIdiom = "E0806", Error, "LTL formula has no meaning on a finite route",
-        "";
+        "let sofa = objects(sofa).only()\nroute ltl \"G F sofa\" {}";
     LtlUnsatisfiable = "E0807", Error, "LTL formula is unsatisfiable",
-        "";
+        "let sofa = objects(sofa).only()\nroute ltl \"F sofa & G !sofa\" {}";
     LtlNoRoute = "E0808", Error, "no route on this map satisfies the LTL formula",
-        "";
+        "let kitchen = rooms(kitchen).only()\nlet fridge = objects(fridge).only()\nroute ltl \"F fridge & G !kitchen\" {}";
     LtlDropped = "E0809", Warning, "constraint ignored by the LTL planner",
         "let bed = objects(bed).only()\nroute ltl \"F bed\" {\n  prefer near(objects(sofa).only())\n}";
     LtlTooLarge = "E0810", Error, "LTL automaton too large",
         "";
     LtlNextStep = "E0811", Warning, "`X` counts grid cells, not places",
-        "";
+        "let sofa = objects(sofa).only()\nroute ltl \"X sofa\" {}";
     LtlMixedRoute = "E0812", Error, "`go` stage in an LTL route",
-        "";
+        "let sofa = objects(sofa).only()\nroute ltl \"F sofa\" {\n  go sofa\n}";
 
     // --- E09xx: JSON groundings (compiler::intent; the Schema and catalog-id variants) ------
     GraphNotJson = "E0901", Error, "reply is not a JSON object",

@@ -91,6 +91,15 @@ pub fn diagnostics_markdown(on_demo: &dyn Fn(&str) -> Vec<super::Diagnostic>) ->
             out.push_str(match info.id {
                 "E0404" => "a map (`m2rc check --map`): a category the benchmark knows but the map lacks.\n",
                 "E0000" => "a parser error of a kind newer than this registry.\n",
+                "E0804" => "a formula checked outside a program (`docs/ltl.md`); in a `.m2r` \
+                            program an unbound name in a formula is E0101.\n",
+                "E0810" => "a formula whose automaton outgrows its budget: a long conjunction of \
+                            unordered `F` atoms (each doubles it), too large to print here.\n",
+                "E0901" | "E0902" | "E0903" => "a JSON reply of the Schema grounding variant \
+                            (`docs/ablations.md`, \"grounding\"), not a `.m2r` program.\n",
+                "E0904" | "E0905" => "a JSON reply of the Direct ID or catalog-LTL grounding \
+                            variants (`docs/ablations.md`, \"grounding\"), checked against \
+                            the scene catalog.\n",
                 _ => "input that is impractical to show here.\n",
             });
             continue;

@@ -193,6 +193,25 @@ fn read_layer(
 }
 
 pub(super) fn read_cell(v: &Value, n: usize, path: &str, ctx: &ErrCtx) -> Result<Cell, MapError> {
+    read_cell_at(v, n, || path.to_string(), ctx)
+}
+
+/// [`read_cell`] with the path built only for an error: footprints are hundreds of thousands of
+/// cells, and formatting a path for each was most of reading them.
+pub(super) fn read_cell_at(
+    v: &Value,
+    n: usize,
+    path: impl Fn() -> String,
+    ctx: &ErrCtx,
+) -> Result<Cell, MapError> {
+    if let Some([r, c]) = v.as_array().map(Vec::as_slice)
+        && let (Some(r), Some(c)) = (r.as_u64(), c.as_u64())
+        && (r as usize) < n
+        && (c as usize) < n
+    {
+        return Ok(Cell::new(r as u32, c as u32));
+    }
+    let path = &path();
     let a = as_arr(v, path, ctx)?;
     if a.len() != 2 {
         return Err(ctx.err(path, "expected a [row, col] pair"));
@@ -273,6 +292,8 @@ pub(crate) struct Layers {
     pub occupancy: Grid<u8>,
     pub room: Grid<u32>,
     pub object: Grid<u32>,
+    /// Each object's `object_footprints` cells by id, read instead of that key when given.
+    pub footprints: Option<BTreeMap<u32, Vec<Cell>>>,
 }
 
 /// [`read_map_document`], taking the layers from `pre` (when given) instead of `layers`.
@@ -327,6 +348,13 @@ pub(crate) fn read_map_document_layers(
         Some(v) => Some(read_cell(v, n, "metadata.start_grid", &ctx)?),
     };
 
+    let (pre, mut pre_footprints) = match pre {
+        Some(mut l) => {
+            let f = l.footprints.take();
+            (Some(l), f)
+        }
+        None => (None, None),
+    };
     let (occupancy, room_layer, object_layer) = match pre {
         Some(l) if [l.occupancy.n(), l.room.n(), l.object.n()] == [n; 3] => {
             (l.occupancy, l.room, l.object)
@@ -470,13 +498,24 @@ pub(crate) fn read_map_document_layers(
         let attributes = read_attributes(o, &path, &ctx)?;
 
         let mut footprint = Vec::new();
-        if let Some(fp) = footprints.and_then(|f| f.get(&id.to_string())) {
+        if let Some(pre) = pre_footprints.as_mut() {
+            footprint = pre.remove(&id).unwrap_or_default();
+            if let Some(c) = footprint
+                .iter()
+                .find(|c| c.row as usize >= n || c.col as usize >= n)
+            {
+                return Err(ctx.err(
+                    format!("object_footprints.\"{id}\".cells"),
+                    format!("cell [{}, {}] lies outside the {n}x{n} grid", c.row, c.col),
+                ));
+            }
+        } else if let Some(fp) = footprints.and_then(|f| f.get(&id.to_string())) {
             let fpath = format!("object_footprints.\"{id}\"");
             let fo = as_obj(fp, &fpath, &ctx)?;
             if let Some(cells) = fo.get("cells") {
                 let cpath = join(&fpath, "cells");
                 for (k, c) in as_arr(cells, &cpath, &ctx)?.iter().enumerate() {
-                    footprint.push(read_cell(c, n, &format!("{cpath}[{k}]"), &ctx)?);
+                    footprint.push(read_cell_at(c, n, || format!("{cpath}[{k}]"), &ctx)?);
                 }
             }
         }

@@ -9,16 +9,19 @@
 //! the caller's stamp of the source file (u32 length, bytes: what lets a caller vouch for the
 //! source without reading it), grid size n (u32), n² occupancy bytes, n² room ids and n² object
 //! ids (u32 LE each), the obstacle field (u8 present; then its tag u32 and n² u32 squared
-//! distances), the rest's JSON length (u64) and bytes, and a CRC-32 of everything before it. A
+//! distances), the object footprints (u32 count; per object its id, its cell count and the cells
+//! as row, col u32 pairs: hundreds of thousands of cells that would otherwise be most of the JSON
+//! left to parse), the rest's JSON length (u64) and bytes, and a CRC-32 of everything before it. A
 //! prepared map is only ever used for the source it was made from (its bytes, or a stamp the
 //! caller matched); anything else is an error the caller turns into a rebuild, never a map.
 
 use super::format::{Layers, read_map_document_layers};
 use super::{MapDocument, write_map_document};
-use crate::grid::Grid;
+use crate::grid::{Cell, Grid};
+use std::collections::BTreeMap;
 
 /// Bumped whenever the layout or the meaning of a field changes.
-pub const PREPARED_VERSION: u32 = 2;
+pub const PREPARED_VERSION: u32 = 3;
 
 const MAGIC: &[u8; 8] = b"M2RCMAP\0";
 
@@ -62,11 +65,11 @@ pub enum Source<'a> {
 }
 
 /// The fixed part of a prepared map, readable without checking the rest.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Header<'a> {
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Header {
     pub source_len: u64,
     pub source_crc: u32,
-    pub stamp: &'a [u8],
+    pub stamp: Vec<u8>,
 }
 
 /// Encodes `doc`, read from the map file whose bytes are `source`, with the caller's `stamp` of
@@ -84,6 +87,8 @@ pub fn encode_prepared(
         obj.remove("layers");
         // Derived from the footprints on every write and never read back.
         obj.remove("cell_object_ids");
+        // Written below in binary.
+        obj.remove("object_footprints");
     }
     let rest = serde_json::to_vec(&rest).expect("a JSON value serialises");
     let field = obstacle_sq.filter(|f| f.squared.len() == n * n);
@@ -107,6 +112,15 @@ pub fn encode_prepared(
         }
         None => out.push(0),
     }
+    out.extend_from_slice(&(map.objects.len() as u32).to_le_bytes());
+    for o in &map.objects {
+        out.extend_from_slice(&o.id.to_le_bytes());
+        out.extend_from_slice(&(o.footprint.len() as u32).to_le_bytes());
+        for c in &o.footprint {
+            out.extend_from_slice(&c.row.to_le_bytes());
+            out.extend_from_slice(&c.col.to_le_bytes());
+        }
+    }
     out.extend_from_slice(&(rest.len() as u64).to_le_bytes());
     out.extend_from_slice(&rest);
     let crc = crc32fast::hash(&out);
@@ -126,34 +140,8 @@ fn corrupt(what: &str) -> PreparedError {
 
 /// Reads the header (magic, version, the source's length, CRC and stamp) without checking the
 /// rest of the entry.
-pub fn read_header(bytes: &[u8]) -> Result<Header<'_>, PreparedError> {
-    header(bytes).map(|(h, _)| h)
-}
-
-fn header(bytes: &[u8]) -> Result<(Header<'_>, usize), PreparedError> {
-    if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
-        return Err(PreparedError::NotPrepared);
-    }
-    let mut r = Reader {
-        bytes,
-        at: MAGIC.len(),
-    };
-    let version = r.u32().ok_or_else(|| corrupt("truncated header"))?;
-    if version != PREPARED_VERSION {
-        return Err(PreparedError::Version { found: version });
-    }
-    let source_len = r.u64().ok_or_else(|| corrupt("truncated header"))?;
-    let source_crc = r.u32().ok_or_else(|| corrupt("truncated header"))?;
-    let stamp_len = r.u32().ok_or_else(|| corrupt("truncated header"))?;
-    let stamp = r
-        .take(stamp_len as usize)
-        .ok_or_else(|| corrupt("truncated header"))?;
-    let h = Header {
-        source_len,
-        source_crc,
-        stamp,
-    };
-    Ok((h, r.at))
+pub fn read_header(bytes: &[u8]) -> Result<Header, PreparedError> {
+    PreparedReader::open(bytes, bytes.len() as u64).map(|r| r.header)
 }
 
 /// Decodes a prepared map made from `source`; `file` names the source in errors.
@@ -162,86 +150,192 @@ pub fn decode_prepared(
     source: Source<'_>,
     file: &str,
 ) -> Result<Prepared, PreparedError> {
-    let (h, at) = header(bytes)?;
-    if let Source::Bytes(src) = source
-        && (h.source_len != src.len() as u64 || h.source_crc != crc32fast::hash(src))
-    {
-        return Err(PreparedError::Stale);
-    }
-    let (body, tail) = bytes
-        .split_at_checked(bytes.len().saturating_sub(4))
-        .filter(|(b, _)| b.len() >= at)
-        .ok_or_else(|| corrupt("truncated"))?;
-    let stored = u32::from_le_bytes(tail.try_into().map_err(|_| corrupt("truncated"))?);
-    if crc32fast::hash(body) != stored {
-        return Err(corrupt("checksum mismatch"));
-    }
-    let mut r = Reader { bytes: body, at };
-    let n = r.u32().ok_or_else(|| corrupt("truncated header"))? as usize;
-    let cells = n
-        .checked_mul(n)
-        .filter(|c| c.saturating_mul(9) <= body.len())
-        .ok_or_else(|| corrupt("grid size larger than the file"))?;
-    let occupancy = r.take(cells).ok_or_else(|| corrupt("truncated layers"))?;
-    let occupancy = Grid::from_vec(n, occupancy.to_vec()).expect("n*n cells");
-    let room = r.u32s(cells).ok_or_else(|| corrupt("truncated layers"))?;
-    let object = r.u32s(cells).ok_or_else(|| corrupt("truncated layers"))?;
-    let obstacle_sq = match r.take(1).ok_or_else(|| corrupt("truncated field"))? {
-        [0] => None,
-        [1] => {
-            let tag = r.u32().ok_or_else(|| corrupt("truncated field"))?;
-            Some((
-                tag,
-                r.u32s(cells).ok_or_else(|| corrupt("truncated field"))?,
-            ))
+    PreparedReader::open(bytes, bytes.len() as u64)?.decode(source, file)
+}
+
+/// A prepared map being read from a stream (a cache file), its header read and the rest not
+/// yet: the caller decides from the header how to check the source, then decodes. The layers
+/// and the field are read straight into the map's own arrays, with no copy of the whole entry in
+/// between (which was a third of a cached start on a suite map).
+pub struct PreparedReader<R> {
+    stream: Stream<R>,
+    header: Header,
+}
+
+impl<R: std::io::Read> PreparedReader<R> {
+    /// Reads the header of the `len`-byte entry `input`.
+    pub fn open(input: R, len: u64) -> Result<Self, PreparedError> {
+        let mut stream = Stream {
+            input,
+            crc: crc32fast::Hasher::new(),
+            left: len.saturating_sub(4),
+        };
+        let mut magic = [0u8; 8];
+        if len < 12 || stream.fill(&mut magic).is_none() || &magic != MAGIC {
+            return Err(PreparedError::NotPrepared);
         }
-        _ => return Err(corrupt("bad field marker")),
-    };
-    let rest_len = r.u64().ok_or_else(|| corrupt("truncated rest"))?;
-    let rest = usize::try_from(rest_len)
-        .ok()
-        .and_then(|l| r.take(l))
-        .ok_or_else(|| corrupt("truncated rest"))?;
-    if r.at != body.len() {
-        return Err(corrupt("trailing bytes"));
+        let truncated = || corrupt("truncated header");
+        let version = stream.u32().ok_or_else(truncated)?;
+        if version != PREPARED_VERSION {
+            return Err(PreparedError::Version { found: version });
+        }
+        let source_len = stream.u64().ok_or_else(truncated)?;
+        let source_crc = stream.u32().ok_or_else(truncated)?;
+        let stamp_len = stream.u32().ok_or_else(truncated)?;
+        let stamp = stream.bytes(stamp_len as usize).ok_or_else(truncated)?;
+        let header = Header {
+            source_len,
+            source_crc,
+            stamp,
+        };
+        Ok(PreparedReader { stream, header })
     }
-    let rest: serde_json::Value =
-        serde_json::from_slice(rest).map_err(|e| PreparedError::Corrupt(e.to_string()))?;
-    let layers = Layers {
-        occupancy,
-        room: Grid::from_vec(n, room).expect("n*n cells"),
-        object: Grid::from_vec(n, object).expect("n*n cells"),
-    };
-    let doc = read_map_document_layers(&rest, file, Some(layers))
-        .map_err(|e| PreparedError::Corrupt(e.to_string()))?;
-    Ok(Prepared { doc, obstacle_sq })
+
+    pub fn header(&self) -> &Header {
+        &self.header
+    }
+
+    /// Decodes the rest, checked against `source` and the entry's own checksum.
+    pub fn decode(self, source: Source<'_>, file: &str) -> Result<Prepared, PreparedError> {
+        let PreparedReader { mut stream, header } = self;
+        if let Source::Bytes(src) = source
+            && (header.source_len != src.len() as u64 || header.source_crc != crc32fast::hash(src))
+        {
+            return Err(PreparedError::Stale);
+        }
+        let r = &mut stream;
+        let n = r.u32().ok_or_else(|| corrupt("truncated header"))? as usize;
+        let cells = n
+            .checked_mul(n)
+            .filter(|c| c.saturating_mul(9) as u64 <= r.left)
+            .ok_or_else(|| corrupt("grid size larger than the file"))?;
+        let occupancy = r.bytes(cells).ok_or_else(|| corrupt("truncated layers"))?;
+        let occupancy = Grid::from_vec(n, occupancy).expect("n*n cells");
+        let room = r.u32s(cells).ok_or_else(|| corrupt("truncated layers"))?;
+        let object = r.u32s(cells).ok_or_else(|| corrupt("truncated layers"))?;
+        let obstacle_sq = match r.u8().ok_or_else(|| corrupt("truncated field"))? {
+            0 => None,
+            1 => {
+                let tag = r.u32().ok_or_else(|| corrupt("truncated field"))?;
+                Some((
+                    tag,
+                    r.u32s(cells).ok_or_else(|| corrupt("truncated field"))?,
+                ))
+            }
+            _ => return Err(corrupt("bad field marker")),
+        };
+        let objects = r.u32().ok_or_else(|| corrupt("truncated footprints"))?;
+        let mut footprints = BTreeMap::new();
+        for _ in 0..objects {
+            let id = r.u32().ok_or_else(|| corrupt("truncated footprints"))?;
+            let len = r.u32().ok_or_else(|| corrupt("truncated footprints"))? as usize;
+            let raw = r
+                .u32s(len.saturating_mul(2))
+                .ok_or_else(|| corrupt("truncated footprints"))?;
+            let cells = raw.chunks_exact(2).map(|p| Cell::new(p[0], p[1])).collect();
+            if footprints.insert(id, cells).is_some() {
+                return Err(corrupt("an object's footprint appears twice"));
+            }
+        }
+        let rest_len = r.u64().ok_or_else(|| corrupt("truncated rest"))?;
+        let rest = usize::try_from(rest_len)
+            .ok()
+            .and_then(|l| r.bytes(l))
+            .ok_or_else(|| corrupt("truncated rest"))?;
+        if r.left != 0 {
+            return Err(corrupt("trailing bytes"));
+        }
+        let mut stored = [0u8; 4];
+        r.input
+            .read_exact(&mut stored)
+            .map_err(|_| corrupt("truncated"))?;
+        let extra = r
+            .input
+            .read(&mut [0u8; 1])
+            .map_err(|_| corrupt("unreadable"))?;
+        if extra != 0 {
+            return Err(corrupt("longer than its length"));
+        }
+        if stream.crc.finalize() != u32::from_le_bytes(stored) {
+            return Err(corrupt("checksum mismatch"));
+        }
+        let rest: serde_json::Value =
+            serde_json::from_slice(&rest).map_err(|e| PreparedError::Corrupt(e.to_string()))?;
+        let layers = Layers {
+            occupancy,
+            room: Grid::from_vec(n, room).expect("n*n cells"),
+            object: Grid::from_vec(n, object).expect("n*n cells"),
+            footprints: Some(footprints),
+        };
+        let doc = read_map_document_layers(&rest, file, Some(layers))
+            .map_err(|e| PreparedError::Corrupt(e.to_string()))?;
+        Ok(Prepared { doc, obstacle_sq })
+    }
 }
 
-struct Reader<'a> {
-    bytes: &'a [u8],
-    at: usize,
+/// The entry's bytes in order, summed into its CRC as they are read; `left` counts the bytes
+/// before the trailing CRC, so that no count read from the entry makes it allocate more than
+/// the entry holds.
+struct Stream<R> {
+    input: R,
+    crc: crc32fast::Hasher,
+    left: u64,
 }
 
-impl<'a> Reader<'a> {
-    fn take(&mut self, len: usize) -> Option<&'a [u8]> {
-        let end = self.at.checked_add(len)?;
-        let out = self.bytes.get(self.at..end)?;
-        self.at = end;
-        Some(out)
+impl<R: std::io::Read> Stream<R> {
+    fn fill(&mut self, buf: &mut [u8]) -> Option<()> {
+        let len = buf.len() as u64;
+        if len > self.left {
+            return None;
+        }
+        self.input.read_exact(buf).ok()?;
+        self.crc.update(buf);
+        self.left -= len;
+        Some(())
+    }
+    fn u8(&mut self) -> Option<u8> {
+        let mut b = [0u8; 1];
+        self.fill(&mut b)?;
+        Some(b[0])
     }
     fn u32(&mut self) -> Option<u32> {
-        Some(u32::from_le_bytes(self.take(4)?.try_into().ok()?))
+        let mut b = [0u8; 4];
+        self.fill(&mut b)?;
+        Some(u32::from_le_bytes(b))
     }
     fn u64(&mut self) -> Option<u64> {
-        Some(u64::from_le_bytes(self.take(8)?.try_into().ok()?))
+        let mut b = [0u8; 8];
+        self.fill(&mut b)?;
+        Some(u64::from_le_bytes(b))
     }
+    fn bytes(&mut self, len: usize) -> Option<Vec<u8>> {
+        if len as u64 > self.left {
+            return None;
+        }
+        let mut out = vec![0u8; len];
+        self.fill(&mut out)?;
+        Some(out)
+    }
+    /// `count` little-endian u32s, read through a small buffer that stays in cache.
     fn u32s(&mut self, count: usize) -> Option<Vec<u32>> {
-        let raw = self.take(count.checked_mul(4)?)?;
-        Some(
-            raw.chunks_exact(4)
-                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-                .collect(),
-        )
+        let total = count.checked_mul(4)?;
+        if total as u64 > self.left {
+            return None;
+        }
+        let mut out = Vec::with_capacity(count);
+        let mut buf = [0u8; 1 << 16];
+        let mut rest = total;
+        while rest > 0 {
+            let chunk = &mut buf[..rest.min(1 << 16)];
+            self.fill(chunk)?;
+            out.extend(
+                chunk
+                    .chunks_exact(4)
+                    .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+            );
+            rest -= chunk.len();
+        }
+        Some(out)
     }
 }
 
