@@ -15,7 +15,7 @@ use indexmap::IndexMap;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Extra key holding the gold `.m2r` program of an m2rc-generated episode.
 pub const GOLD_PROGRAM_KEY: &str = "m2rc_gold_program";
@@ -415,8 +415,32 @@ impl SoftConstraint {
 /// is bookkeeping, not data.
 #[derive(Clone, Debug, Default)]
 pub struct Origin {
-    json: Option<Arc<Value>>,
+    json: Option<Arc<SourceJson>>,
     path: Option<PathBuf>,
+}
+
+/// The source JSON: the value itself, or the text it was read from, parsed again only when the
+/// episode is written (scoring never writes one, and keeping a second tree of a 100 KB episode
+/// cost a cached `m2rc eval` a tenth of its time).
+#[derive(Debug)]
+enum SourceJson {
+    Value(Value),
+    Text {
+        text: String,
+        value: OnceLock<Value>,
+    },
+}
+
+impl SourceJson {
+    fn value(&self) -> &Value {
+        match self {
+            SourceJson::Value(v) => v,
+            // The text parsed once already, as this episode.
+            SourceJson::Text { text, value } => {
+                value.get_or_init(|| serde_json::from_str(text).unwrap_or(Value::Null))
+            }
+        }
+    }
 }
 
 impl PartialEq for Origin {
@@ -428,41 +452,48 @@ impl PartialEq for Origin {
 impl Episode {
     /// Parses an episode from a JSON value. `file` names the input in error messages.
     pub fn from_value(value: Value, file: &str) -> Result<Episode, EpisodeError> {
-        if !value.is_object() {
-            return Err(EpisodeError::Field {
-                file: file.to_string(),
-                path: ".".into(),
-                message: "an instruction file must be a JSON object".into(),
-            });
-        }
+        not_an_object(&value, file)?;
         // Whole-number floats (`[223.0, 117.0]`, as Python writers emit them) are read as the
         // integers they are; the source value is kept as it was for faithful writing.
-        // Copied only when there is one to convert: most files have none, and a copy of a
-        // 100 KB episode's tree was a large part of a cached `m2rc eval`.
-        let converted = crate::episode_check::has_integral_float(&value)
-            .then(|| crate::episode_check::integral_floats_as_ints(&value));
-        let typed = converted.as_ref().unwrap_or(&value);
-        // The plain deserializer first; the path-tracking one (slower) only to name the path of
-        // an error.
-        let mut episode: Episode = match Episode::deserialize(typed) {
-            Ok(e) => e,
-            Err(_) => serde_path_to_error::deserialize(typed).map_err(|e| EpisodeError::Field {
-                file: file.to_string(),
-                path: e.path().to_string(),
-                message: e.inner().to_string(),
-            })?,
+        let mut episode = if crate::episode_check::has_integral_float(&value) {
+            let mut converted = value.clone();
+            crate::episode_check::integral_floats_to_ints(&mut converted);
+            Episode::typed(&converted, file)?
+        } else {
+            Episode::typed(&value, file)?
         };
-        episode.origin.json = Some(Arc::new(value));
+        episode.origin.json = Some(Arc::new(SourceJson::Value(value)));
         Ok(episode)
     }
 
     /// Parses an episode from JSON text. `file` names the input in error messages.
     pub fn from_json_str(text: &str, file: &str) -> Result<Episode, EpisodeError> {
-        let value: Value = serde_json::from_str(text).map_err(|source| EpisodeError::Json {
+        let mut value: Value = serde_json::from_str(text).map_err(|source| EpisodeError::Json {
             file: file.to_string(),
             source,
         })?;
-        Episode::from_value(value, file)
+        not_an_object(&value, file)?;
+        // As `from_value`, converted in place: the source is kept as its text.
+        crate::episode_check::integral_floats_to_ints(&mut value);
+        let mut episode = Episode::typed(&value, file)?;
+        episode.origin.json = Some(Arc::new(SourceJson::Text {
+            text: text.to_string(),
+            value: OnceLock::new(),
+        }));
+        Ok(episode)
+    }
+
+    /// The typed episode of a value whose integral floats are already integers: the plain
+    /// deserializer first, the path-tracking one (slower) only to name the path of an error.
+    fn typed(value: &Value, file: &str) -> Result<Episode, EpisodeError> {
+        match Episode::deserialize(value) {
+            Ok(e) => Ok(e),
+            Err(_) => serde_path_to_error::deserialize(value).map_err(|e| EpisodeError::Field {
+                file: file.to_string(),
+                path: e.path().to_string(),
+                message: e.inner().to_string(),
+            }),
+        }
     }
 
     /// Checks what the types cannot: cells inside an `n` x `n` map and not negative, 1-based
@@ -505,7 +536,7 @@ impl Episode {
         // would become `null`, as serde_json does for non-finite floats.
         let fresh = serde_json::to_value(self).unwrap_or(Value::Null);
         match &self.origin.json {
-            Some(source) => reconcile(fresh, source),
+            Some(source) => reconcile(fresh, source.value()),
             None => fresh,
         }
     }
@@ -526,6 +557,17 @@ impl Episode {
     pub fn detach_source(&mut self) {
         self.origin.json = None;
     }
+}
+
+fn not_an_object(value: &Value, file: &str) -> Result<(), EpisodeError> {
+    if value.is_object() {
+        return Ok(());
+    }
+    Err(EpisodeError::Field {
+        file: file.to_string(),
+        path: ".".into(),
+        message: "an instruction file must be a JSON object".into(),
+    })
 }
 
 /// Rebuilds `fresh` using `old`'s key order and number spellings wherever the data is unchanged.
@@ -628,6 +670,24 @@ mod tests {
             serde_json::to_string(&written).unwrap(),
             serde_json::to_string(&original).unwrap()
         );
+    }
+
+    #[test]
+    fn whole_number_floats_are_read_as_integers_and_written_as_the_source_spelt_them() {
+        let text = r#"{"hard_constraints": [{"kind": "must_pass", "shape": "freeform", "order": 1.0, "cells": [[223.0, 117.0]], "extra_note": 2.0}], "radius_note": 3.5}"#;
+        let original: Value = serde_json::from_str(text).unwrap();
+        let from_text = Episode::from_json_str(text, "a.json").unwrap();
+        let from_value = Episode::from_value(original.clone(), "a.json").unwrap();
+        assert_eq!(from_text, from_value);
+        assert_eq!(
+            from_text.hard_constraints[0].cells.as_deref(),
+            Some(&[[223, 117]][..])
+        );
+        for ep in [&from_text, &from_value] {
+            let written = serde_json::to_string(&ep.to_value()).unwrap();
+            assert_eq!(written, serde_json::to_string(&original).unwrap());
+            assert!(written.contains("[[223.0,117.0]]"), "{written}");
+        }
     }
 
     #[test]

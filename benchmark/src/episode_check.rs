@@ -207,7 +207,7 @@ pub fn episode_problems(ep: &Episode, n: Option<usize>) -> Vec<EpisodeProblem> {
     out
 }
 
-/// Whether [`integral_floats_as_ints`] would change anything in `value`.
+/// Whether [`integral_floats_to_ints`] would change anything in `value`.
 pub fn has_integral_float(value: &serde_json::Value) -> bool {
     use serde_json::Value;
     match value {
@@ -220,22 +220,22 @@ pub fn has_integral_float(value: &serde_json::Value) -> bool {
     }
 }
 
-/// A copy of `value` with every float that is a whole number (`223.0`) written as an integer,
-/// as the reference tools' Python writer sometimes emits cells; other numbers are unchanged.
-pub fn integral_floats_as_ints(value: &serde_json::Value) -> serde_json::Value {
+/// Writes every float of `value` that is a whole number (`223.0`) as an integer, as the
+/// reference tools' Python writer sometimes emits cells; other numbers are unchanged.
+pub fn integral_floats_to_ints(value: &mut serde_json::Value) {
     use serde_json::Value;
     match value {
-        Value::Number(n) if n.is_f64() => match n.as_f64() {
-            Some(x) if x.fract() == 0.0 && x.abs() < 9.0e15 => Value::from(x as i64),
-            _ => value.clone(),
-        },
-        Value::Array(a) => Value::Array(a.iter().map(integral_floats_as_ints).collect()),
-        Value::Object(o) => Value::Object(
-            o.iter()
-                .map(|(k, v)| (k.clone(), integral_floats_as_ints(v)))
-                .collect(),
-        ),
-        _ => value.clone(),
+        Value::Number(n) if n.is_f64() => {
+            if let Some(x) = n.as_f64()
+                && x.fract() == 0.0
+                && x.abs() < 9.0e15
+            {
+                *value = Value::from(x as i64);
+            }
+        }
+        Value::Array(a) => a.iter_mut().for_each(integral_floats_to_ints),
+        Value::Object(o) => o.values_mut().for_each(integral_floats_to_ints),
+        _ => {}
     }
 }
 

@@ -305,7 +305,7 @@ fn theirs(p: &Prepared, with_phi: bool) -> (u64, u64) {
 fn plan_problem(scene: &Scene) -> PlanProblem {
     let n = scene.n;
     let room = |id: u32| {
-        Area::Mask(Grid::from_vec(n, scene.rooms.iter().map(|&r| r == id).collect()).unwrap())
+        Area::mask(Grid::from_vec(n, scene.rooms.iter().map(|&r| r == id).collect()).unwrap())
     };
     let ids = &scene.room_ids;
     let pick = |k: usize| ids[k % ids.len()];

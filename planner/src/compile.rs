@@ -112,8 +112,10 @@ pub struct CompiledSegment {
     /// Padded Φ, exact on traversable cells (a search reads nothing else); `None` when it is zero
     /// on all of them. Shared with the problem's clearance field when the segment adds no term.
     pub phi: Option<Arc<Vec<f64>>>,
-    /// Row-major avoid masks with their origins, for failure diagnosis.
-    pub forbids: Vec<(Vec<bool>, Origin)>,
+    /// The avoid regions' origins, in the order of the segment's `forbidden` (whose cells
+    /// failure diagnosis reads again: a mask of each would be built for every segment and used
+    /// only when one fails).
+    pub forbids: Vec<Origin>,
     pub stages: Vec<CompiledStage>,
 }
 
@@ -270,21 +272,16 @@ pub fn compile_segment(
 ) -> Result<CompiledSegment, PlanFailure> {
     let n = prep.layout.n;
     let l = prep.layout;
-    let forbids: Vec<(Vec<bool>, Origin)> = spec
-        .forbidden
-        .iter()
-        .map(|f| (f.cells.to_mask(n), f.origin))
-        .collect();
-    let mut forbidden = vec![false; n * n];
-    for (m, _) in &forbids {
-        forbidden.iter_mut().zip(m).for_each(|(a, b)| *a |= *b);
+    let forbids: Vec<Origin> = spec.forbidden.iter().map(|f| f.origin).collect();
+    // Built as the forbidden mask, then turned in place into "traversable and not forbidden".
+    let mut allowed_plain = vec![false; n * n];
+    for f in &spec.forbidden {
+        f.cells.or_into(&mut allowed_plain, n);
     }
-    let allowed_plain: Vec<bool> = prep
-        .traversable_plain
-        .iter()
-        .zip(&forbidden)
-        .map(|(t, f)| *t && !*f)
-        .collect();
+    allowed_plain
+        .iter_mut()
+        .zip(&prep.traversable_plain)
+        .for_each(|(a, t)| *a = *t && !*a);
 
     // Φ.
     let mut scratch = prep.scratch.borrow_mut();
@@ -327,24 +324,28 @@ pub fn compile_segment(
         .iter()
         .enumerate()
     {
-        let raw = goal::goal_mask(&st.target, &prep.traversable_plain, n, radius);
-        if !raw.iter().any(|v| *v) {
+        let mut goal_plain = goal::goal_mask(&st.target, &prep.traversable_plain, n, radius);
+        if !goal_plain.iter().any(|v| *v) {
             return Err(PlanFailure::TargetEmpty {
                 segment: index,
                 stage: si,
                 origin: st.origin,
             });
         }
-        let goal_plain: Vec<bool> = raw
-            .iter()
+        goal_plain
+            .iter_mut()
             .zip(&allowed_plain)
-            .map(|(g, a)| *g && *a)
-            .collect();
+            .for_each(|(g, a)| *g &= *a);
         if !goal_plain.iter().any(|v| *v) {
-            let culprits = forbids
+            let raw = goal::goal_mask(&st.target, &prep.traversable_plain, n, radius);
+            let culprits = spec
+                .forbidden
                 .iter()
-                .filter(|(m, _)| raw.iter().zip(m).any(|(g, f)| *g && *f))
-                .map(|(_, o)| *o)
+                .filter(|f| {
+                    let m = f.cells.to_mask(n);
+                    raw.iter().zip(&m).any(|(g, f)| *g && *f)
+                })
+                .map(|f| f.origin)
                 .collect();
             return Err(PlanFailure::GoalBlocked {
                 segment: index,
@@ -473,12 +474,13 @@ pub fn explain_unreachable(
     }
     // Which avoid region, removed on its own, reconnects the target? (Bounded: each test is a BFS.)
     let mut culprits = Vec::new();
-    if seg.forbids.len() <= 16 {
-        for skip in 0..seg.forbids.len() {
+    let forbidden = &p.segments[segment].forbidden;
+    if forbidden.len() <= 16 {
+        for skip in 0..forbidden.len() {
             let mut others = vec![false; n * n];
-            for (j, (m, _)) in seg.forbids.iter().enumerate() {
+            for (j, f) in forbidden.iter().enumerate() {
                 if j != skip {
-                    others.iter_mut().zip(m).for_each(|(a, b)| *a |= *b);
+                    f.cells.or_into(&mut others, n);
                 }
             }
             let others = l.pad(&others, false);
@@ -495,12 +497,12 @@ pub fn explain_unreachable(
                 &prep.traversable
             };
             if allowed[start] && reachable(l, corners, &allowed, &goal, start) {
-                culprits.push(seg.forbids[skip].1);
+                culprits.push(forbidden[skip].origin);
             }
         }
     }
     if culprits.is_empty() {
-        culprits = seg.forbids.iter().map(|(_, o)| *o).collect();
+        culprits = seg.forbids.clone();
     }
     PlanFailure::UnreachableUnderAvoids {
         segment,

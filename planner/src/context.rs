@@ -36,7 +36,7 @@ pub struct MapContext {
     /// Non-free occupancy cells plus every object cell whose object is not a door.
     pub obstacles: Grid<bool>,
     /// Mask of each room by id, built on first use.
-    room_masks: Vec<(u32, OnceLock<Grid<bool>>)>,
+    room_masks: Vec<(u32, OnceLock<Arc<Grid<bool>>>)>,
     fields: Arc<MapFields>,
 }
 
@@ -67,7 +67,7 @@ impl MapContext {
                 .collect(),
         )
         .ok_or_else(|| "object layer size does not match the occupancy layer".to_string())?;
-        let mut room_masks: Vec<(u32, OnceLock<Grid<bool>>)> =
+        let mut room_masks: Vec<(u32, OnceLock<Arc<Grid<bool>>>)> =
             map.rooms.iter().map(|r| (r.id, OnceLock::new())).collect();
         room_masks.sort_by_key(|(id, _)| *id);
         room_masks.dedup_by_key(|(id, _)| *id);
@@ -85,13 +85,11 @@ impl MapContext {
     }
 
     /// The mask of room `id`: the cells `map` (the map this context was built from) labels `id`.
-    pub fn room_mask(&self, map: &SemanticMap, id: u32) -> Grid<bool> {
+    pub fn room_mask(&self, map: &SemanticMap, id: u32) -> Arc<Grid<bool>> {
+        let make = || Arc::new(map.room_layer.map(|&r| r == id));
         match self.room_masks.binary_search_by_key(&id, |(r, _)| *r) {
-            Ok(i) => self.room_masks[i]
-                .1
-                .get_or_init(|| map.room_layer.map(|&r| r == id))
-                .clone(),
-            Err(_) => map.room_layer.map(|&r| r == id),
+            Ok(i) => self.room_masks[i].1.get_or_init(make).clone(),
+            Err(_) => make(),
         }
     }
 

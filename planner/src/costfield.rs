@@ -678,7 +678,7 @@ mod tests {
             SoftKind::Far {
                 reference: Area::Cells(vec![Cell::new(0, 0)]),
             },
-            Some(Area::Mask(m)),
+            Some(Area::mask(m)),
         );
         let phi = field(n, 0.5, &t);
         assert!((phi[3] - 96.0 * (-1.0f64).exp()).abs() < 1e-12);

@@ -193,7 +193,7 @@ mod tests {
         let room: Vec<bool> = (0..n * n).map(|i| i < n).collect(); // row 0 only
         let t = Target::Object {
             footprint: vec![Cell::new(1, 2)],
-            room: Some(Area::Mask(
+            room: Some(Area::mask(
                 m2rc_stdlib::grid::Grid::from_vec(n, room).unwrap(),
             )),
             center: [1.0, 2.0],

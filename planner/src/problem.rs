@@ -6,36 +6,49 @@ use m2rc_stdlib::grid::{Cell, Grid};
 use serde::{Deserialize, Serialize};
 
 /// A set of cells, either as a full mask or as a list (object footprints and small regions are
-/// lists; rooms and scopes are often masks already).
+/// lists; rooms and scopes are often masks already). A mask is shared, not copied: the same room
+/// scopes many constraints of a program, and a copy of a suite map's mask is half a megabyte.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Area {
-    Mask(Grid<bool>),
+    Mask(std::sync::Arc<Grid<bool>>),
     Cells(Vec<Cell>),
 }
 
 impl Area {
+    /// The area of the cells a mask sets.
+    pub fn mask(grid: Grid<bool>) -> Area {
+        Area::Mask(std::sync::Arc::new(grid))
+    }
+
     /// The area as a row-major mask of side `n`; cells outside the grid are dropped.
     pub fn to_mask(&self, n: usize) -> Vec<bool> {
         match self {
             Area::Mask(g) if g.n() == n => g.data().to_vec(),
-            Area::Mask(g) => {
+            _ => {
                 let mut out = vec![false; n * n];
-                for (c, &v) in g.iter_cells() {
-                    if v && (c.row as usize) < n && (c.col as usize) < n {
-                        out[c.row as usize * n + c.col as usize] = true;
-                    }
-                }
+                self.or_into(&mut out, n);
                 out
             }
-            Area::Cells(cells) => {
-                let mut out = vec![false; n * n];
-                for c in cells {
-                    if (c.row as usize) < n && (c.col as usize) < n {
-                        out[c.row as usize * n + c.col as usize] = true;
-                    }
-                }
-                out
+        }
+    }
+
+    /// Sets the area's cells in `out`, a row-major mask of side `n` (cells outside it dropped):
+    /// the union of several areas without a mask of each.
+    pub fn or_into(&self, out: &mut [bool], n: usize) {
+        let mut set = |c: Cell| {
+            if (c.row as usize) < n && (c.col as usize) < n {
+                out[c.row as usize * n + c.col as usize] = true;
             }
+        };
+        match self {
+            Area::Mask(g) if g.n() == n => {
+                out.iter_mut().zip(g.data()).for_each(|(o, &v)| *o |= v);
+            }
+            Area::Mask(g) => g
+                .iter_cells()
+                .filter(|(_, v)| **v)
+                .for_each(|(c, _)| set(c)),
+            Area::Cells(cells) => cells.iter().for_each(|&c| set(c)),
         }
     }
 

@@ -111,11 +111,11 @@ pub(crate) fn run(
         };
         if !seg.allowed[cur] {
             let i = l.n * l.cell(cur).row as usize + l.cell(cur).col as usize;
-            let forbids = seg
-                .forbids
+            let forbids = p.segments[si]
+                .forbidden
                 .iter()
-                .filter(|(m, _)| m[i])
-                .map(|(_, o)| *o)
+                .filter(|f| f.cells.to_mask(l.n)[i])
+                .map(|f| f.origin)
                 .collect();
             failure = Some(PlanFailure::StartInForbidden {
                 segment: si,

@@ -457,7 +457,7 @@ fn turn_penalty_prefers_straighter_paths_in_the_mask() {
             vec![StageSpec {
                 target: Target::Position(Cell::new(3, 8)),
                 role: StageRole::Waypoint,
-                smoothness: Some(Area::Mask(Grid::new(n, true))),
+                smoothness: Some(Area::mask(Grid::new(n, true))),
                 origin: TARGET0,
             }],
             vec![],

@@ -289,7 +289,7 @@ fn multi_stage_problem(
                     fallback: None,
                 },
                 role,
-                smoothness: (smooth && t == 0).then(|| Area::Mask(Grid::new(n, true))),
+                smoothness: (smooth && t == 0).then(|| Area::mask(Grid::new(n, true))),
                 origin: Origin::Unknown,
             });
         }
