@@ -126,3 +126,78 @@ pub fn variant_setup(
 pub fn is_variant(name: &str) -> bool {
     [schema::NAME, directid::NAME, directid::ltl::NAME].contains(&name)
 }
+
+/// What a JSON grounding variant (Schema, Direct ID, catalog-LTL) records of one episode, from
+/// its repair trace: the outcome, tokens and calls under the variant's key, with `details` (its
+/// own fields) after the prompt's size and `after` at the end; the simulated faults and the budget
+/// when they apply; and, for gold replies, the note that the row is the representation's ceiling
+/// (`ceiling` says in which form).
+pub struct JsonRecord<'a> {
+    pub key: &'a str,
+    pub setup: &'a ModelSetup,
+    pub repair: &'a m2rc_compiler::lower::RepairOptions,
+    pub prompt: &'a m2rc_compiler::lower::Prompt,
+    pub meter: &'a m2rc_benchmark::budget::Meter,
+    pub faults: &'a [&'static str],
+    pub ceiling: &'a str,
+}
+
+impl JsonRecord<'_> {
+    pub fn prediction(
+        self,
+        trace: m2rc_compiler::lower::Trace<m2rc_benchmark::pipeline::CompiledRoute>,
+        details: serde_json::Map<String, serde_json::Value>,
+        after: serde_json::Map<String, serde_json::Value>,
+    ) -> m2rc_benchmark::methods::Prediction {
+        use serde_json::json;
+        let success_round = match trace.outcome {
+            m2rc_compiler::lower::EpisodeOutcome::Success { round } => Some(round),
+            _ => None,
+        };
+        let (prompt_tokens, completion_tokens) = trace.tokens();
+        let mut info = json!({
+            "model": model_label(self.setup),
+            "repair_rounds": self.repair.rounds,
+            "outcome": trace.outcome,
+            "success_round": success_round,
+            "local_fixes": trace.local_fix_count(),
+            "prompt_tokens": prompt_tokens,
+            "completion_tokens": completion_tokens,
+            "prompt_estimated_tokens": self.prompt.estimated_tokens(),
+        });
+        if let Some(obj) = info.as_object_mut() {
+            obj.extend(details);
+            obj.insert("gold_replies".into(), json!(self.setup.is_gold()));
+            obj.insert("calls".into(), json!(trace.attempts));
+            obj.extend(after);
+        }
+        if matches!(self.setup.backend, Backend::Simulated(_)) {
+            info["simulated_faults"] = json!(self.faults);
+        }
+        let over = self.meter.exceeded().filter(|_| success_round.is_none());
+        if let Some(reason) = &over {
+            info["budget_exceeded"] = json!(reason);
+        }
+        let status = match &over {
+            Some(_) => "budget_exceeded",
+            None => trace.outcome.status(),
+        };
+        let mut extra = serde_json::Map::new();
+        extra.insert(self.key.into(), info);
+        m2rc_benchmark::methods::Prediction {
+            trajectory: trace.output.map(|c| c.route.trajectory).unwrap_or_default(),
+            program: trace.final_program,
+            notes: over
+                .into_iter()
+                .chain(self.setup.is_gold().then(|| {
+                    format!(
+                        "{GOLD_LABEL}: {} (the representation's ceiling)",
+                        self.ceiling
+                    )
+                }))
+                .collect(),
+            status: (status != "ok").then(|| status.to_string()),
+            extra,
+        }
+    }
+}

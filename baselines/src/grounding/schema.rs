@@ -5,17 +5,19 @@
 //! a program; the reference's code runs it one-shot (R = 0), its table says R = 3.
 
 use super::simulated::SimulatedJson;
-use super::{model_label, with_model};
-use crate::calls::{GOLD_LABEL, ModelSetup};
+use super::{JsonRecord, with_model};
+use crate::calls::ModelSetup;
 use m2rc_benchmark::budget::{EpisodeBudget, Meter};
 use m2rc_benchmark::episode::Episode;
-use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap, start_cell};
+use m2rc_benchmark::methods::{
+    Method, MethodError, Prediction, PreparedMap, instruction_of, start_cell,
+};
 use m2rc_benchmark::pipeline::{CompiledRoute, PipelineOptions, compile_and_plan_with};
 use m2rc_compiler::intent::{
     GraphDiagnostic, JsonVerdict, graph_feedback, graph_to_program, program_to_graph, reply_json,
     run_json_episode, schema_prompt,
 };
-use m2rc_compiler::lower::{CatalogMode, EpisodeOutcome, Phase, RepairOptions, SceneCatalog};
+use m2rc_compiler::lower::{CatalogMode, Phase, RepairOptions, SceneCatalog};
 use m2rc_llm::Backend;
 use serde_json::{Value, json};
 use std::sync::Arc;
@@ -97,11 +99,7 @@ impl Method for Schema {
     }
 
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
-        let instruction = episode
-            .instruction
-            .as_deref()
-            .filter(|s| !s.trim().is_empty())
-            .ok_or_else(|| MethodError("the episode has no instruction text".into()))?;
+        let instruction = instruction_of(episode)?;
         let start = start_cell(&map.map, episode)?;
         let key = format!(
             "{}/{}/{NAME}",
@@ -141,50 +139,15 @@ impl Method for Schema {
             },
         )
         .map_err(MethodError)?;
-        let success_round = match trace.outcome {
-            EpisodeOutcome::Success { round } => Some(round),
-            _ => None,
+        let record = JsonRecord {
+            key: NAME,
+            setup: &self.setup,
+            repair: &self.repair,
+            prompt: &prompt,
+            meter: &meter,
+            faults: &faults,
+            ceiling: "the gold program as an intent graph",
         };
-        let (prompt_tokens, completion_tokens) = trace.tokens();
-        let mut info = json!({
-            "model": model_label(&self.setup),
-            "repair_rounds": self.repair.rounds,
-            "outcome": trace.outcome,
-            "success_round": success_round,
-            "local_fixes": trace.local_fix_count(),
-            "prompt_tokens": prompt_tokens,
-            "completion_tokens": completion_tokens,
-            "prompt_estimated_tokens": prompt.estimated_tokens(),
-            "gold_replies": self.setup.is_gold(),
-            "calls": trace.attempts,
-        });
-        if matches!(self.setup.backend, Backend::Simulated(_)) {
-            info["simulated_faults"] = json!(faults);
-        }
-        let over = meter.exceeded().filter(|_| success_round.is_none());
-        if let Some(reason) = &over {
-            info["budget_exceeded"] = json!(reason);
-        }
-        let status = match &over {
-            Some(_) => "budget_exceeded",
-            None => trace.outcome.status(),
-        };
-        let mut extra = serde_json::Map::new();
-        extra.insert(NAME.into(), info);
-        Ok(Prediction {
-            trajectory: trace
-                .output
-                .map(|c| c.route.trajectory)
-                .unwrap_or_default(),
-            program: trace.final_program,
-            notes: over
-                .into_iter()
-                .chain(self.setup.is_gold().then(|| {
-                    format!("{GOLD_LABEL}: the gold program as an intent graph (the representation's ceiling)")
-                }))
-                .collect(),
-            status: (status != "ok").then(|| status.to_string()),
-            extra,
-        })
+        Ok(record.prediction(trace, Default::default(), Default::default()))
     }
 }

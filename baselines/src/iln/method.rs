@@ -11,7 +11,7 @@ use crate::common::grid::GridSearch;
 use crate::common::labels::nearest_free;
 use crate::common::start_cell;
 use m2rc_benchmark::episode::Episode;
-use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap};
+use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap, instruction_of};
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::map::SemanticMap;
 use serde_json::{Value, json};
@@ -42,11 +42,7 @@ impl Method for Iln {
     }
 
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
-        let instruction = episode
-            .instruction
-            .as_deref()
-            .filter(|s| !s.trim().is_empty())
-            .ok_or_else(|| MethodError("the episode has no instruction text".into()))?;
+        let instruction = instruction_of(episode)?;
         let m = &map.map;
         let start = drive_start(m, episode)?;
         let g = AreaGraph::build(m);

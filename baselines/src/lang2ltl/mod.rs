@@ -19,7 +19,7 @@ use crate::common::labels::{OBJECT_LABEL_RADIUS_CELLS, label_cells};
 use crate::common::prefix_ltl::to_prefix;
 use crate::common::start_cell;
 use m2rc_benchmark::episode::Episode;
-use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap};
+use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap, instruction_of};
 use m2rc_compiler::ltl::Formula;
 use m2rc_compiler::ltl::syntax::Kind;
 use serde_json::{Map, Value, json};
@@ -65,11 +65,7 @@ impl Method for Lang2Ltl {
     }
 
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
-        let instruction = episode
-            .instruction
-            .as_deref()
-            .filter(|s| !s.trim().is_empty())
-            .ok_or_else(|| MethodError("the episode has no instruction text".into()))?;
+        let instruction = instruction_of(episode)?;
         let start = start_cell(&map.map, episode)?;
         let mut session = Session::new(&self.setup, NAME, &map.map.map_id, episode);
         let gold = if self.setup.is_gold() {

@@ -18,7 +18,7 @@ use crate::common::inventory::{Ap, ApKind, Inventory};
 use crate::common::prefix_ltl::{rename_atoms, to_prefix};
 use crate::common::start_cell;
 use m2rc_benchmark::episode::Episode;
-use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap};
+use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap, instruction_of};
 use m2rc_stdlib::grid::Cell;
 use parse::Crd;
 use serde_json::{Map, Value, json};
@@ -59,11 +59,7 @@ impl Method for Limp {
     }
 
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
-        let instruction = episode
-            .instruction
-            .as_deref()
-            .filter(|s| !s.trim().is_empty())
-            .ok_or_else(|| MethodError("the episode has no instruction text".into()))?;
+        let instruction = instruction_of(episode)?;
         let start = start_cell(&map.map, episode)?;
         let mut session =
             Session::new(&self.setup, NAME, &map.map.map_id, episode).with_temperature(TEMPERATURE);

@@ -9,7 +9,7 @@ use crate::common::gold::Gold;
 use crate::common::grid::GridSearch;
 use crate::iln::method::{drive_start, finish, gold_note};
 use m2rc_benchmark::episode::Episode;
-use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap};
+use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap, instruction_of};
 use serde_json::{Value, json};
 use std::sync::Arc;
 
@@ -40,11 +40,7 @@ impl Method for SayPlan {
     }
 
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
-        let instruction = episode
-            .instruction
-            .as_deref()
-            .filter(|s| !s.trim().is_empty())
-            .ok_or_else(|| MethodError("the episode has no instruction text".into()))?;
+        let instruction = instruction_of(episode)?;
         let m = &map.map;
         let start = drive_start(m, episode)?;
         let g = SceneGraph::build(m, start);

@@ -146,11 +146,7 @@ impl Method for Grounding2Route {
     }
 
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
-        let instruction = episode
-            .instruction
-            .as_deref()
-            .filter(|s| !s.trim().is_empty())
-            .ok_or_else(|| MethodError("the episode has no instruction text".into()))?;
+        let instruction = super::instruction_of(episode)?;
         let start = start_cell(&map.map, episode)?;
         let ctx = map.planning()?;
         let key = format!(

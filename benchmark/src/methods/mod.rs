@@ -159,6 +159,16 @@ pub fn method_by_name(name: &str) -> Option<Box<dyn Method>> {
     }
 }
 
+/// The episode's instruction text, which every language method reads; none, or only blanks, is
+/// a method error with one wording for all of them.
+pub fn instruction_of(episode: &Episode) -> Result<&str, MethodError> {
+    episode
+        .instruction
+        .as_deref()
+        .filter(|s| !s.trim().is_empty())
+        .ok_or_else(|| MethodError("the episode has no instruction text".into()))
+}
+
 /// The episode's start cell: `start_pose`, else the first expert waypoint, else the centre of the
 /// record (first must-pass) region.
 pub fn start_cell(map: &SemanticMap, episode: &Episode) -> Result<Cell, MethodError> {

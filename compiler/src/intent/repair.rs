@@ -7,9 +7,9 @@ use super::GraphDiagnostic;
 use super::feedback::apply_fixes;
 use super::prompt::json_repair_messages;
 use crate::lower::repair::{
-    Attempt, DiagRecord, EpisodeOutcome, LocalFix, Phase, RepairOptions, Trace,
+    Attempt, DiagRecord, EpisodeOutcome, LocalFix, Phase, RepairOptions, Trace, call_model,
 };
-use crate::lower::{ChatError, ChatModel, ChatRequest, Prompt};
+use crate::lower::{ChatModel, ChatRequest, Prompt};
 
 /// What one reply came to: the output and the program that produced it, or the phase that
 /// rejected it with its diagnostics.
@@ -81,45 +81,15 @@ pub fn run_json_episode<M: ChatModel + ?Sized, T>(
             None => first.messages.clone(),
             Some((reply, diags)) => json_repair_messages(first, reply, diags, what),
         };
-        let mut attempt = Attempt {
-            round,
-            custom_id: custom_id.clone(),
-            prompt_tokens: Some(0),
-            completion_tokens: Some(0),
-            ..Attempt::default()
-        };
-        let reply = match model.complete(&ChatRequest {
+        let request = ChatRequest {
             custom_id,
             messages,
-        }) {
-            Ok(r) => r,
-            Err(ChatError::Pending(id)) => {
-                attempt.reply = "pending".into();
-                attempt.outcome = "pending".into();
-                attempts.push(attempt);
-                return Trace {
-                    attempts,
-                    outcome: EpisodeOutcome::Pending { custom_id: id },
-                    output: None,
-                    final_program: last_program,
-                };
-            }
-            Err(ChatError::Failed(message)) => {
-                attempt.reply = "model_failed".into();
-                attempt.outcome = "model_failed".into();
-                attempt.error = Some(message.clone());
-                attempts.push(attempt);
-                return Trace {
-                    attempts,
-                    outcome: EpisodeOutcome::ModelFailed { message },
-                    output: None,
-                    final_program: last_program,
-                };
-            }
         };
-        attempt.prompt_tokens = reply.usage.prompt_tokens;
-        attempt.completion_tokens = reply.usage.completion_tokens;
-        attempt.latency_ms = reply.latency_ms;
+        let (reply, mut attempt) =
+            match call_model(model, &request, round, &mut attempts, &last_program) {
+                Ok(answered) => answered,
+                Err(ended) => return ended,
+            };
         let text = reply.content.clone().unwrap_or_default();
         attempt.reply = if reply.choices == 0 {
             "empty_choice"

@@ -7,7 +7,7 @@
 
 use super::extract::{Extracted, extract};
 use super::prompt::{Feedback, Prompt, repair_messages};
-use super::{ChatError, ChatModel, ChatRequest};
+use super::{ChatError, ChatModel, ChatReply, ChatRequest};
 use crate::diagnostic::{Diagnostic, Suggestion};
 use serde::{Deserialize, Serialize};
 
@@ -210,6 +210,51 @@ impl<T> Trace<T> {
 
 /// The unambiguous fixes of `diags` on `source`: errors with exactly one suggestion whose span
 /// fits the source and overlaps no other candidate's. `None` when there is none.
+/// One model call of a repair round, with its attempt record begun (round, id, tokens,
+/// latency): the reply, or the trace that ends the episode when the model gave none (a batch left
+/// it pending, or the call failed). Shared by the `.m2r` and the JSON repair loops.
+pub(crate) fn call_model<M: ChatModel + ?Sized, T>(
+    model: &M,
+    request: &ChatRequest,
+    round: usize,
+    attempts: &mut Vec<Attempt>,
+    last_program: &Option<String>,
+) -> Result<(ChatReply, Attempt), Trace<T>> {
+    let mut attempt = Attempt {
+        round,
+        custom_id: request.custom_id.clone(),
+        prompt_tokens: Some(0),
+        completion_tokens: Some(0),
+        ..Attempt::default()
+    };
+    let outcome = match model.complete(request) {
+        Ok(reply) => {
+            attempt.prompt_tokens = reply.usage.prompt_tokens;
+            attempt.completion_tokens = reply.usage.completion_tokens;
+            attempt.latency_ms = reply.latency_ms;
+            return Ok((reply, attempt));
+        }
+        Err(ChatError::Pending(id)) => {
+            attempt.reply = "pending".into();
+            attempt.outcome = "pending".into();
+            EpisodeOutcome::Pending { custom_id: id }
+        }
+        Err(ChatError::Failed(message)) => {
+            attempt.reply = "model_failed".into();
+            attempt.outcome = "model_failed".into();
+            attempt.error = Some(message.clone());
+            EpisodeOutcome::ModelFailed { message }
+        }
+    };
+    attempts.push(attempt);
+    Err(Trace {
+        attempts: std::mem::take(attempts),
+        outcome,
+        output: None,
+        final_program: last_program.clone(),
+    })
+}
+
 pub fn unambiguous_fixes(source: &str, diags: &[Diagnostic]) -> Option<(String, Vec<LocalFix>)> {
     let mut cands: Vec<(&Diagnostic, &Suggestion)> = diags
         .iter()
@@ -344,42 +389,11 @@ pub fn run_episode<M: ChatModel + ?Sized, V: Verifier>(
             custom_id: custom_id.clone(),
             messages,
         };
-        let mut attempt = Attempt {
-            round,
-            custom_id: custom_id.clone(),
-            prompt_tokens: Some(0),
-            completion_tokens: Some(0),
-            ..Attempt::default()
-        };
-        let reply = match model.complete(&request) {
-            Ok(r) => r,
-            Err(ChatError::Pending(id)) => {
-                attempt.reply = "pending".into();
-                attempt.outcome = "pending".into();
-                attempts.push(attempt);
-                return Trace {
-                    attempts,
-                    outcome: EpisodeOutcome::Pending { custom_id: id },
-                    output: None,
-                    final_program: last_program,
-                };
-            }
-            Err(ChatError::Failed(message)) => {
-                attempt.reply = "model_failed".into();
-                attempt.outcome = "model_failed".into();
-                attempt.error = Some(message.clone());
-                attempts.push(attempt);
-                return Trace {
-                    attempts,
-                    outcome: EpisodeOutcome::ModelFailed { message },
-                    output: None,
-                    final_program: last_program,
-                };
-            }
-        };
-        attempt.prompt_tokens = reply.usage.prompt_tokens;
-        attempt.completion_tokens = reply.usage.completion_tokens;
-        attempt.latency_ms = reply.latency_ms;
+        let (reply, mut attempt) =
+            match call_model(model, &request, round, &mut attempts, &last_program) {
+                Ok(answered) => answered,
+                Err(ended) => return ended,
+            };
         let extracted = extract(&reply);
         attempt.reply = extracted.kind().to_string();
         let reply_text = reply.content.clone().unwrap_or_default();

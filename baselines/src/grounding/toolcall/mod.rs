@@ -13,7 +13,9 @@ use crate::calls::{GOLD_LABEL, ModelSetup};
 use conversation::{Budgets, GoldTurns, ModelTurns, Trace, Turns, converse};
 use m2rc_benchmark::budget::{EpisodeBudget, Meter};
 use m2rc_benchmark::episode::Episode;
-use m2rc_benchmark::methods::{Method, MethodError, Prediction, PreparedMap, start_cell};
+use m2rc_benchmark::methods::{
+    Method, MethodError, Prediction, PreparedMap, instruction_of, start_cell,
+};
 use m2rc_benchmark::pipeline::{PipelineOptions, compile_and_plan_with};
 use m2rc_compiler::lower::{CatalogMode, Phase, SceneCatalog, estimate_tokens};
 use m2rc_compiler::tools::{Limits, ToolSession, gold_calls, openai_tools};
@@ -98,11 +100,7 @@ impl Method for ToolCallMethod {
     }
 
     fn predict(&self, map: &PreparedMap, episode: &Episode) -> Result<Prediction, MethodError> {
-        let instruction = episode
-            .instruction
-            .as_deref()
-            .filter(|s| !s.trim().is_empty())
-            .ok_or_else(|| MethodError("the episode has no instruction text".into()))?;
+        let instruction = instruction_of(episode)?;
         let start = start_cell(&map.map, episode)?;
         let key = format!(
             "{}/{}/{NAME}",
