@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Per-process start-up benchmark of the prepared-map cache (issue 32): wall time of whole `m2rc
-# eval` and `m2rc compile` processes on the largest map of a suite, with the cache off and on
-# (second use), and of the Hard fixture program on house 149 imported as a Map2Route map. A
-# benchmark, not a test: it prints min / median / max milliseconds and checks nothing.
+# eval` and `m2rc compile` processes on the largest map of a suite (its first episode: the gold
+# route scored, the gold program compiled), and of the Hard fixture program on house 149 imported
+# as a Map2Route map, each with the cache off and on (second use). A benchmark, not a test: it
+# prints min / median / max milliseconds and checks nothing.
 #
 #   cargo build --release -p m2rc
 #   scripts/startup-bench.sh SUITE_DIR [RUNS]      (RUNS defaults to 10)
@@ -47,22 +48,24 @@ timed() {
 
 eval_cmd=("$bin" eval --map "$map" --episode "$episode" --route "$work/route.json")
 compile_cmd=("$bin" compile --map "$work/h149.json" "$program")
+gold_cmd=("$bin" compile --map "$map" --episode "$episode" "$gold")
 n=$(sed -n 's/.*"grid_size": *\([0-9]*\).*/\1/p' "$map" | head -n 1)
 echo "binary:  $bin ($(git -C "$here" rev-parse --short HEAD 2>/dev/null || echo unknown))"
 echo "load:    $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown)"
 echo "eval:    $scene ($n x $n, $(($(stat -c %s "$map") / 1000000)) MB), $(basename "$episode"), its gold route"
 echo "compile: $(basename "$program") on house 149 as a Map2Route map"
+echo "gold:    compile of that episode's gold program on $scene"
 
 # The entries are written on first use; an identity younger than 3 s is checked by the source's
 # full CRC (docs/maps.md), so wait that out before the cached runs.
-for cmd in eval compile; do
+for cmd in eval compile gold; do
     declare -n c="${cmd}_cmd"
     printf '%-8s cache off     ' "$cmd"
     M2RC_MAP_CACHE=off timed "${c[@]}"
     M2RC_MAP_CACHE="$cache" "${c[@]}" >/dev/null 2>&1
 done
 sleep 4
-for cmd in eval compile; do
+for cmd in eval compile gold; do
     declare -n c="${cmd}_cmd"
     printf '%-8s cache on      ' "$cmd"
     M2RC_MAP_CACHE="$cache" timed "${c[@]}"
