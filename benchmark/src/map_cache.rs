@@ -119,6 +119,10 @@ impl Entry {
 
     /// The prepared map, when a usable one is cached.
     pub fn get(&mut self) -> Option<Loaded> {
+        // A regular file only: opening a FIFO someone left at the entry's path would block.
+        if !self.path.is_file() {
+            return None;
+        }
         let file = std::fs::File::open(&self.path).ok()?;
         let len = file.metadata().ok()?.len();
         let input = std::io::BufReader::with_capacity(1 << 16, file);
@@ -359,6 +363,42 @@ mod tests {
         let eval = crate::metrics::map::EvalMap::from_semantic_map(&doc.map);
         assert!(!eval.seed_clearance_sq(&Arc::new(other)));
         assert_eq!(eval.clearance_field(), computed.clearance_field());
+    }
+
+    /// Something other than a file at an entry's path (here a FIFO, whose opening would block)
+    /// is passed over: the map is parsed, and the FIFO left alone (an atomic write never replaces
+    /// what is not a file; it only warns).
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_at_the_entry_path_is_passed_over() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("demo.json");
+        std::fs::write(&file, m2rc_stdlib::map::write_map_document_json(&demo())).unwrap();
+        let cache = dir.path().join("cache");
+        let parse = |b: &[u8]| m2rc_stdlib::map::read_map_document_json(b, "demo.json");
+        load_map_file(Some(&cache), &file, parse, |e| panic!("{e}")).unwrap();
+        let entry = std::fs::read_dir(&cache)
+            .unwrap()
+            .next()
+            .unwrap()
+            .unwrap()
+            .path();
+        std::fs::remove_file(&entry).unwrap();
+        let made = std::process::Command::new("mkfifo").arg(&entry).status();
+        if !made.is_ok_and(|s| s.success()) {
+            return; // no mkfifo on this system
+        }
+        let again = load_map_file(Some(&cache), &file, parse, |e| panic!("{e}")).unwrap();
+        assert_eq!(again.doc, demo_read(&file));
+        assert!(
+            !entry.is_file() && entry.exists(),
+            "the FIFO is left as it was"
+        );
+    }
+
+    fn demo_read(file: &Path) -> MapDocument {
+        let bytes = std::fs::read(file).unwrap();
+        m2rc_stdlib::map::read_map_document_json(&bytes, "demo.json").unwrap()
     }
 
     #[test]

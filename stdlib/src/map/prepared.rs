@@ -205,6 +205,9 @@ impl<R: std::io::Read> PreparedReader<R> {
         }
         let r = &mut stream;
         let n = r.u32().ok_or_else(|| corrupt("truncated header"))? as usize;
+        if n as u64 > super::format::MAX_GRID_SIZE {
+            return Err(corrupt("grid size larger than a map may be"));
+        }
         let cells = n
             .checked_mul(n)
             .filter(|c| c.saturating_mul(9) as u64 <= r.left)
@@ -435,6 +438,22 @@ mod tests {
         for len in [0, 7, 20, prepared.len() / 3, prepared.len() - 1] {
             assert!(decode(&prepared[..len], &src).is_err(), "len {len}");
         }
+    }
+
+    #[test]
+    fn a_grid_size_no_map_may_have_is_refused_before_anything_is_allocated() {
+        let (src, doc) = source();
+        let mut prepared = encode(&doc, &src);
+        // magic, version, source length and CRC, stamp length, the 5-byte stamp, then n.
+        let at = 8 + 4 + 8 + 4 + 4 + b"stamp".len();
+        assert_eq!(prepared[at..at + 4], (doc.map.n() as u32).to_le_bytes());
+        prepared[at..at + 4].copy_from_slice(&40_000u32.to_le_bytes());
+        assert_eq!(
+            decode(&prepared, &src),
+            Err(PreparedError::Corrupt(
+                "grid size larger than a map may be".into()
+            ))
+        );
     }
 
     #[test]
