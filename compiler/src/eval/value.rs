@@ -23,6 +23,26 @@ pub enum PlaceVal {
 }
 
 impl PlaceVal {
+    /// A constructed region: its cells, how it was built (`kind` from the places `from`, within
+    /// `radius_m`), and its label.
+    pub fn region(
+        cells: Vec<Cell>,
+        kind: &str,
+        from: Vec<String>,
+        radius_m: Option<f64>,
+        label: String,
+    ) -> PlaceVal {
+        PlaceVal::Region(Rc::new(Region {
+            cells,
+            construction: Construction {
+                kind: kind.into(),
+                from,
+                radius_m,
+            },
+            label,
+        }))
+    }
+
     /// Identity for set operations: objects and rooms by id, regions by their cells.
     pub fn same(&self, other: &PlaceVal) -> bool {
         match (self, other) {

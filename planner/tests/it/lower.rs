@@ -1,6 +1,7 @@
 //! RouteIR lowering on a small hand-made two-room map: stages, avoid regions, soft terms and
 //! clearance obstacles come out as documented, and failures map back to source spans.
 
+use crate::fixture::{cells, object};
 use m2rc_compiler::ir::{
     CellSet, Constraint, ConstraintKind, Construction, Direction, Pass, Place, PlaceKind,
     ROUTE_IR_VERSION, RouteIr, Shape, SourceSpan, Stage, StageScope,
@@ -8,34 +9,9 @@ use m2rc_compiler::ir::{
 use m2rc_planner::lower::{lower, span_of};
 use m2rc_planner::{CostProfile, Origin, PlanFailure, StageRole, Target, plan_sequential};
 use m2rc_stdlib::grid::{Cell, Grid};
-use m2rc_stdlib::map::{FREE, GridFrame, OBSTACLE, Object, Room, SemanticMap};
+use m2rc_stdlib::map::{FREE, GridFrame, OBSTACLE, Room, SemanticMap};
 
 const N: usize = 20;
-
-fn cells(rows: std::ops::Range<u32>, cols: std::ops::Range<u32>) -> Vec<Cell> {
-    rows.flat_map(|r| cols.clone().map(move |c| Cell::new(r, c)))
-        .collect()
-}
-
-fn object(id: u32, category: &str, footprint: Vec<Cell>, room: u32) -> Object {
-    let k = footprint.len() as f64;
-    let center = [
-        footprint.iter().map(|c| c.row as f64).sum::<f64>() / k,
-        footprint.iter().map(|c| c.col as f64).sum::<f64>() / k,
-    ];
-    Object {
-        id,
-        category: category.into(),
-        name: format!("{category} {id}"),
-        footprint,
-        center,
-        elevation_m: None,
-        height_m: None,
-        room: Some(room),
-        parent: None,
-        attributes: vec![],
-    }
-}
 
 /// Room 1 = columns 0..10, room 2 = columns 11..20, a wall in column 10 with a door in rows 8..12.
 /// A bed (blocked) in room 2, a rug (free floor, but an object) in room 1.

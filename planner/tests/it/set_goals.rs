@@ -3,6 +3,7 @@
 //! distance would be the wrong one; and a stage whose `pass` makes the other box the cheaper one,
 //! so the choice follows the stage's constraints, not the stage's start.
 
+use crate::fixture::{cells, object};
 use m2rc_compiler::check::check;
 use m2rc_compiler::eval::{Chosen, GroundOptions, ground_checked};
 use m2rc_compiler::ir::{BoundAgainst, PlaceKind, RouteIr};
@@ -10,7 +11,7 @@ use m2rc_planner::choice::reached_members;
 use m2rc_planner::lower::lower;
 use m2rc_planner::{CostProfile, PlannedRoute, PlannerKind, plan};
 use m2rc_stdlib::grid::{Cell, Grid};
-use m2rc_stdlib::map::{FREE, GridFrame, OBSTACLE, Object, Room, SemanticMap};
+use m2rc_stdlib::map::{FREE, GridFrame, OBSTACLE, Room, SemanticMap};
 use m2rc_stdlib::query::MapQuery;
 use m2rc_stdlib::vocab::Vocabulary;
 
@@ -20,31 +21,6 @@ const START: Cell = Cell { row: 3, col: 15 };
 const NEAR_BY_DISTANCE: u32 = 1;
 /// Box #2, down the start's own room: 26 cells away in a straight line, about 20 by route.
 const NEAR_BY_ROUTE: u32 = 2;
-
-fn cells(rows: std::ops::Range<u32>, cols: std::ops::Range<u32>) -> Vec<Cell> {
-    rows.flat_map(|r| cols.clone().map(move |c| Cell::new(r, c)))
-        .collect()
-}
-
-fn object(id: u32, category: &str, footprint: Vec<Cell>, room: u32) -> Object {
-    let k = footprint.len() as f64;
-    let center = [
-        footprint.iter().map(|c| c.row as f64).sum::<f64>() / k,
-        footprint.iter().map(|c| c.col as f64).sum::<f64>() / k,
-    ];
-    Object {
-        id,
-        category: category.into(),
-        name: format!("{category} {id}"),
-        footprint,
-        center,
-        elevation_m: None,
-        height_m: None,
-        room: Some(room),
-        parent: None,
-        attributes: vec![],
-    }
-}
 
 /// Room 1 (columns 0..20) and room 2 (columns 21..40), a wall in column 20 open only in rows
 /// 34..40. Box #1 in room 2 by the wall's top, box #2 at the bottom of room 1, a lamp by room 2's

@@ -3,11 +3,9 @@
 //! from a program plan over identical RouteIR.
 
 use super::catalog::{START_ID, object_id, room_id};
-use m2rc_compiler::eval::{PlaceVal, Region};
-use m2rc_compiler::ir::Construction;
+use m2rc_compiler::eval::PlaceVal;
 use m2rc_stdlib::grid::Cell;
 use m2rc_stdlib::query::MapQuery;
-use std::rc::Rc;
 
 /// What a catalog id names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -63,25 +61,7 @@ impl Ref {
 
 /// The start as the compiler grounds it: a one-cell region.
 pub fn start_place(start: Cell) -> PlaceVal {
-    region(vec![start], "start", vec![], None, "start".into())
-}
-
-fn region(
-    cells: Vec<Cell>,
-    kind: &str,
-    from: Vec<String>,
-    radius_m: Option<f64>,
-    label: String,
-) -> PlaceVal {
-    PlaceVal::Region(Rc::new(Region {
-        cells,
-        construction: Construction {
-            kind: kind.into(),
-            from,
-            radius_m,
-        },
-        label,
-    }))
+    PlaceVal::region(vec![start], "start", vec![], None, "start".into())
 }
 
 /// The value of an id (which must exist).
@@ -100,7 +80,7 @@ pub fn area_near(q: &MapQuery, x: &PlaceVal, within_m: f64) -> Option<PlaceVal> 
         return None;
     }
     let l = x.label(q);
-    Some(region(
+    Some(PlaceVal::region(
         cells,
         "area_near",
         vec![l.clone()],

@@ -1,13 +1,11 @@
 //! Places built from the map: corners, doorways, neighbouring rooms and constructed regions.
 
 use super::{Call, GroundFn};
-use crate::eval::value::{PlaceVal, Region, Value};
+use crate::eval::value::{PlaceVal, Value};
 use crate::eval::{Grounder, Problem, codes};
-use crate::ir::Construction;
 use m2rc_grammar::ast::Expr;
 use m2rc_stdlib::builtins::Builtin;
 use m2rc_stdlib::grid::Cell;
-use std::rc::Rc;
 
 pub(super) fn lookup(row: &Builtin) -> Option<GroundFn> {
     match (row.name, row.is_method()) {
@@ -26,24 +24,6 @@ pub(super) fn lookup(row: &Builtin) -> Option<GroundFn> {
     }
 }
 
-pub(in crate::eval) fn region(
-    cells: Vec<Cell>,
-    kind: &str,
-    from: Vec<String>,
-    radius_m: Option<f64>,
-    label: String,
-) -> PlaceVal {
-    PlaceVal::Region(Rc::new(Region {
-        cells,
-        construction: Construction {
-            kind: kind.into(),
-            from,
-            radius_m,
-        },
-        label,
-    }))
-}
-
 fn recv_rooms(c: &Call) -> Vec<u32> {
     super::room_ids(&c.recv.as_ref().and_then(Value::places).unwrap_or_default())
 }
@@ -53,7 +33,7 @@ fn corners(g: &mut Grounder, c: Call) -> Value {
     for room in recv_rooms(&c) {
         let rl = PlaceVal::Room(room).label(g.q);
         for (i, cells) in g.q.corners(room).into_iter().enumerate() {
-            out.push(region(
+            out.push(PlaceVal::region(
                 cells,
                 "corner",
                 vec![rl.clone()],
@@ -244,7 +224,7 @@ fn house_corners(g: &mut Grounder, c: Call) -> Value {
             continue;
         };
         let cells: Vec<Cell> = all.iter().copied().filter(|x| x.dist(tip) <= rc).collect();
-        let p = region(
+        let p = PlaceVal::region(
             cells,
             "house_corner",
             vec!["house".into()],
@@ -302,7 +282,7 @@ impl Grounder<'_, '_> {
             PlaceVal::Room(a).label(self.q),
             PlaceVal::Room(b).label(self.q),
         );
-        region(
+        PlaceVal::region(
             cells,
             "doorway",
             vec![la.clone(), lb.clone()],
@@ -327,6 +307,6 @@ impl Grounder<'_, '_> {
                 format!("{label} covers no cell of the map"),
             ));
         }
-        Value::Place(region(cells, kind, from, r, label))
+        Value::Place(PlaceVal::region(cells, kind, from, r, label))
     }
 }
