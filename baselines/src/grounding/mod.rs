@@ -127,6 +127,24 @@ pub fn is_variant(name: &str) -> bool {
     [schema::NAME, directid::NAME, directid::ltl::NAME].contains(&name)
 }
 
+/// An episode's pipeline options, planned from `start` under the default episode budget, with
+/// the meter to read afterwards (whether the budget ran out).
+pub fn metered(
+    start: m2rc_stdlib::grid::Cell,
+) -> (
+    std::sync::Arc<m2rc_benchmark::budget::Meter>,
+    m2rc_benchmark::pipeline::PipelineOptions,
+) {
+    use m2rc_benchmark::budget::{EpisodeBudget, Meter};
+    let meter = std::sync::Arc::new(Meter::new(EpisodeBudget::default()));
+    let pipeline = m2rc_benchmark::pipeline::PipelineOptions {
+        start: Some(start),
+        meter: Some(meter.clone()),
+        ..Default::default()
+    };
+    (meter, pipeline)
+}
+
 /// What a JSON grounding variant (Schema, Direct ID, catalog-LTL) records of one episode, from
 /// its repair trace: the outcome, tokens and calls under the variant's key, with `details` (its
 /// own fields) after the prompt's size and `after` at the end; the simulated faults and the budget

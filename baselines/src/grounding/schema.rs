@@ -5,9 +5,8 @@
 //! a program; the reference's code runs it one-shot (R = 0), its table says R = 3.
 
 use super::simulated::SimulatedJson;
-use super::{JsonRecord, with_model};
+use super::{JsonRecord, metered, with_model};
 use crate::calls::ModelSetup;
-use m2rc_benchmark::budget::{EpisodeBudget, Meter};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::methods::{
     Method, MethodError, Prediction, PreparedMap, instruction_of, start_cell,
@@ -118,12 +117,7 @@ impl Method for Schema {
             ));
         }
         let gold = gold_program.unwrap_or_default();
-        let meter = Arc::new(Meter::new(EpisodeBudget::default()));
-        let pipeline = PipelineOptions {
-            start: Some(start),
-            meter: Some(meter.clone()),
-            ..PipelineOptions::default()
-        };
+        let (meter, pipeline) = metered(start);
         let mut faults: Vec<&'static str> = Vec::new();
         let trace = with_model(
             &self.setup,

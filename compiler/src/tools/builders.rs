@@ -1,9 +1,10 @@
 //! The RouteIR builders of a session: the segment context, constraints, segments and the task
 //! that puts them together as an intent graph and checks it with the compiler.
 
-use super::{Finished, Handle, Outcome, Stored, ToolSession, clip, describe, is_name, short};
+use super::{
+    Finished, Handle, Outcome, Stored, ToolSession, clip, describe, graph_program, is_name, short,
+};
 use crate::check::check;
-use crate::intent::graph_to_program;
 use serde_json::{Map, Value, json};
 use std::collections::BTreeMap;
 
@@ -209,22 +210,14 @@ impl ToolSession<'_> {
         if !route.is_empty() {
             graph["constraints"] = Value::Array(route);
         }
-        let compiled = graph_to_program(&graph).map_err(|ds| {
-            ds.iter()
-                .map(|d| describe(&d.diagnostic))
-                .collect::<Vec<_>>()
-                .join("; ")
-        })?;
-        let checked = check(&compiled.program, &self.vocab);
+        let program = graph_program(&graph)?;
+        let checked = check(&program, &self.vocab);
         let errors: Vec<String> = checked.errors().map(describe).collect();
         if !errors.is_empty() {
             return Err(format!("the route does not compile: {}", errors.join("; ")));
         }
         let n = segments_len(&graph);
-        self.finished = Some(Finished {
-            graph,
-            program: compiled.program,
-        });
+        self.finished = Some(Finished { graph, program });
         Ok(json!({"submitted": true, "value": format!("a route of {n} segment(s) was submitted")}))
     }
 }

@@ -417,13 +417,7 @@ impl<'m> ToolSession<'m> {
             "bindings": [{"name": "query", "value": expr}],
             "segments": [{"to": "start"}],
         });
-        let compiled = graph_to_program(&graph).map_err(|ds| {
-            ds.iter()
-                .map(|d| describe(&d.diagnostic))
-                .collect::<Vec<_>>()
-                .join("; ")
-        })?;
-        let src = compiled.program;
+        let src = graph_program(&graph)?;
         let route_at = src.find("\nroute").unwrap_or(src.len());
         let checked = check(&src, &self.vocab);
         let errors: Vec<String> = checked
@@ -452,6 +446,16 @@ impl<'m> ToolSession<'m> {
             Some((_, v)) => Ok(v),
         }
     }
+}
+
+/// The `.m2r` program of an intent graph, or its diagnostics in the form a model reads.
+fn graph_program(graph: &Value) -> Result<String, String> {
+    graph_to_program(graph).map(|c| c.program).map_err(|ds| {
+        ds.iter()
+            .map(|d| describe(&d.diagnostic))
+            .collect::<Vec<_>>()
+            .join("; ")
+    })
 }
 
 /// `E0201: message (help: ...)`, the form a model reads.

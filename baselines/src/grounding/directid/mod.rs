@@ -20,9 +20,8 @@ pub mod schema;
 pub mod validate;
 
 use super::simulated::SimulatedJson;
-use super::{JsonRecord, with_model};
+use super::{JsonRecord, metered, with_model};
 use crate::calls::ModelSetup;
-use m2rc_benchmark::budget::{EpisodeBudget, Meter};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::methods::{
     Method, MethodError, Prediction, PreparedMap, instruction_of, start_cell,
@@ -216,12 +215,7 @@ impl Method for CatalogIds {
             lossy = g.lossy.iter().cloned().chain(more).collect();
             v
         });
-        let meter = Arc::new(Meter::new(EpisodeBudget::default()));
-        let pipeline = PipelineOptions {
-            start: Some(start),
-            meter: Some(meter.clone()),
-            ..PipelineOptions::default()
-        };
+        let (meter, pipeline) = metered(start);
         let mut faults: Vec<&'static str> = Vec::new();
         let trace = with_model(
             &self.setup,

@@ -11,12 +11,11 @@ pub mod conversation;
 use super::model_label;
 use crate::calls::{GOLD_LABEL, ModelSetup};
 use conversation::{Budgets, GoldTurns, ModelTurns, Trace, Turns, converse};
-use m2rc_benchmark::budget::{EpisodeBudget, Meter};
 use m2rc_benchmark::episode::Episode;
 use m2rc_benchmark::methods::{
     Method, MethodError, Prediction, PreparedMap, instruction_of, start_cell,
 };
-use m2rc_benchmark::pipeline::{PipelineOptions, compile_and_plan_with};
+use m2rc_benchmark::pipeline::compile_and_plan_with;
 use m2rc_compiler::lower::{CatalogMode, Phase, SceneCatalog, estimate_tokens};
 use m2rc_compiler::tools::{Limits, ToolSession, gold_calls, openai_tools};
 use m2rc_llm::{Backend, Exchange};
@@ -185,16 +184,11 @@ impl Method for ToolCallMethod {
         let mut status = trace.status.to_string();
         let mut trajectory = Vec::new();
         let mut program = None;
-        let meter = Arc::new(Meter::new(EpisodeBudget::default()));
+        let (meter, pipeline) = super::metered(start);
         if let Some(done) = &session.finished {
             program = Some(done.program.clone());
             info["route_graph"] = done.graph.clone();
             let ctx = map.planning()?;
-            let pipeline = PipelineOptions {
-                start: Some(start),
-                meter: Some(meter.clone()),
-                ..PipelineOptions::default()
-            };
             match compile_and_plan_with(&done.program, &map.map, ctx, &pipeline) {
                 Ok(c) => trajectory = c.route.trajectory,
                 Err(diags) => {
